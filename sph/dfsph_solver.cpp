@@ -1,0 +1,191 @@
+#include "sph/dfsph_solver.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+namespace sph {
+
+namespace {
+
+// Fewer neighbours than this marks a particle near the free surface, whose density deficit is not
+// compression: the divergence solve leaves it alone (as the reference implementation does).
+constexpr Index kMinNeighboursForDivergence = 20;
+
+double seconds_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+// Rate of change of rho/rho0 from the current velocities:
+//   sum_j V_j (v_i - v_j) . grad W_ij + v_i . sum_b V_b grad W_ib   (the boundary rests).
+inline Real density_rate(Index i, const FluidParticles& fluid, const ParticleNeighbourhood& nb) {
+  const Vec3* v = fluid.velocity.data();
+  const Vec3 vi = v[i];
+  Real rate = vi.dot(nb.boundary_gradient_sum[i]);
+  const auto& ff = nb.fluid;
+  for (Index k = ff.lists.offsets[i]; k < ff.lists.offsets[i + 1]; ++k)
+    rate += (vi - v[ff.lists.indices[k]]).dot(ff.gradient[k]);
+  return rate;
+}
+
+}  // namespace
+
+DfsphSolver::DfsphSolver(const DfsphConfig& config, Real initial_dt)
+    : config_(config), last_dt_(initial_dt) {}
+
+void DfsphSolver::permute(const std::vector<Index>& order) {
+  std::vector<Real> scratch;
+  permute_array(stiffness_density_, order, scratch);
+  permute_array(stiffness_divergence_, order, scratch);
+}
+
+void DfsphSolver::compute_factors(const FluidParticles& fluid, const ParticleNeighbourhood& nb) {
+  const long n = long(fluid.active_count());
+  const Real h = nb.support_radius();
+  const Real tiny = Real(1e-6) / (h * h);
+#pragma omp parallel for schedule(static)
+  for (long li = 0; li < n; ++li) {
+    const Index i = Index(li);
+    Vec3 grad_sum = nb.boundary_gradient_sum[i];
+    Real sum_sq = 0;
+    nb.fluid.for_each(i, [&](Index, Index k) {
+      const Vec3& g = nb.fluid.gradient[k];
+      grad_sum += g;
+      sum_sq += g.squaredNorm();
+    });
+    const Real denominator = grad_sum.squaredNorm() + sum_sq;
+    alpha_[i] = denominator > tiny ? Real(1) / denominator : Real(0);
+  }
+}
+
+void DfsphSolver::apply_stiffness(FluidParticles& fluid, const ParticleNeighbourhood& nb,
+                                  const std::vector<Real>& s, Real dt) const {
+  const long n = long(fluid.active_count());
+  const Real inv_dt = Real(1) / dt;
+#pragma omp parallel for schedule(static)
+  for (long li = 0; li < n; ++li) {
+    const Index i = Index(li);
+    const Real si = s[i];
+    Vec3 dv = si * nb.boundary_gradient_sum[i];
+    const auto& ff = nb.fluid;
+    for (Index k = ff.lists.offsets[i]; k < ff.lists.offsets[i + 1]; ++k)
+      dv += (si + s[ff.lists.indices[k]]) * ff.gradient[k];
+    fluid.velocity[i] -= inv_dt * dv;
+  }
+}
+
+int DfsphSolver::solve_divergence(FluidParticles& fluid, const ParticleNeighbourhood& nb, Real dt) {
+  const long n = long(fluid.active_count());
+  if (n == 0) return 0;
+  const double eta = double(config_.divergence_error_percent) * 0.01;
+  // Warm start with last step's stiffness, then iterate on the remaining divergence.
+  if (config_.warm_start) {
+    for (long i = 0; i < n; ++i) s_[size_t(i)] = Real(0.5) * stiffness_divergence_[size_t(i)];
+    apply_stiffness(fluid, nb, s_, dt);
+    std::copy(s_.begin(), s_.begin() + n, stiffness_divergence_.begin());
+  } else {
+    std::fill(stiffness_divergence_.begin(), stiffness_divergence_.begin() + n, Real(0));
+  }
+  int iterations = 0;
+  while (true) {
+    double error_sum = 0;
+#pragma omp parallel for schedule(static) reduction(+ : error_sum)
+    for (long li = 0; li < n; ++li) {
+      const Index i = Index(li);
+      Real rate = 0;
+      if (nb.fluid.lists.count(i) + nb.boundary.lists.count(i) >= kMinNeighboursForDivergence)
+        rate = std::max(density_rate(i, fluid, nb), Real(0));
+      s_[i] = dt * rate * alpha_[i];
+      error_sum += double(rate) * dt;
+    }
+    const double error_avg = error_sum / double(n);
+    if ((error_avg <= eta && iterations >= config_.min_iterations) ||
+        iterations >= config_.max_iterations)
+      break;
+    apply_stiffness(fluid, nb, s_, dt);
+    for (long i = 0; i < n; ++i) stiffness_divergence_[size_t(i)] += s_[size_t(i)];
+    ++iterations;
+  }
+  return iterations;
+}
+
+int DfsphSolver::solve_density(FluidParticles& fluid, const ParticleNeighbourhood& nb, Real dt,
+                               StepStats& stats) {
+  const long n = long(fluid.active_count());
+  if (n == 0) return 0;
+  const double eta = double(config_.density_error_percent) * 0.01;
+  if (config_.warm_start) {
+    for (long i = 0; i < n; ++i) s_[size_t(i)] = Real(0.5) * stiffness_density_[size_t(i)];
+    apply_stiffness(fluid, nb, s_, dt);
+    std::copy(s_.begin(), s_.begin() + n, stiffness_density_.begin());
+  } else {
+    std::fill(stiffness_density_.begin(), stiffness_density_.begin() + n, Real(0));
+  }
+  int iterations = 0;
+  while (true) {
+    double error_sum = 0;
+    Real error_max = 0;
+#pragma omp parallel for schedule(static) reduction(+ : error_sum) reduction(max : error_max)
+    for (long li = 0; li < n; ++li) {
+      const Index i = Index(li);
+      const Real predicted = fluid.density[i] + dt * density_rate(i, fluid, nb);
+      const Real error = std::max(predicted - Real(1), Real(0));
+      s_[i] = error * alpha_[i];
+      error_sum += double(error);
+      error_max = std::max(error_max, error);
+    }
+    stats.density_error_avg = error_sum / double(n);
+    stats.density_error_max = double(error_max);
+    if ((stats.density_error_avg <= eta && iterations >= config_.min_iterations) ||
+        iterations >= config_.max_iterations)
+      break;
+    apply_stiffness(fluid, nb, s_, dt);
+    for (long i = 0; i < n; ++i) stiffness_density_[size_t(i)] += s_[size_t(i)];
+    ++iterations;
+  }
+  return iterations;
+}
+
+void DfsphSolver::step(SolverHost& host, StepStats& stats) {
+  FluidParticles& fluid = host.mutable_fluid();
+  const size_t size = fluid.size();
+  alpha_.resize(size, 0);
+  stiffness_density_.resize(size, 0);
+  stiffness_divergence_.resize(size, 0);
+  s_.resize(size, 0);
+
+  host.update_neighbourhood();
+  const ParticleNeighbourhood& nb = host.neighbourhood();
+  const long n = long(fluid.active_count());
+
+  auto t0 = std::chrono::steady_clock::now();
+  compute_factors(fluid, nb);
+  stats.iterations_divergence =
+      config_.divergence_solver ? solve_divergence(fluid, nb, last_dt_) : 0;
+  if (!config_.divergence_solver)
+    std::fill(stiffness_divergence_.begin(), stiffness_divergence_.end(), Real(0));
+  host.time_split().pressure_solve += seconds_since(t0);
+
+  const Real dt = host.choose_time_step(std::numeric_limits<Real>::infinity());
+  host.compute_non_pressure_accelerations(dt);
+#pragma omp parallel for schedule(static)
+  for (long i = 0; i < n; ++i) fluid.velocity[size_t(i)] += dt * fluid.acceleration[size_t(i)];
+
+  t0 = std::chrono::steady_clock::now();
+  stats.iterations_density = solve_density(fluid, nb, dt, stats);
+  host.time_split().pressure_solve += seconds_since(t0);
+
+  // Pressure for output: p = rho0 (rho/rho0)^2 kappa with kappa = s / dt^2 of each solve.
+  const Real inv_dt2 = Real(1) / (dt * dt), inv_dt2_div = Real(1) / (last_dt_ * last_dt_);
+#pragma omp parallel for schedule(static)
+  for (long li = 0; li < n; ++li) {
+    const size_t i = size_t(li);
+    fluid.position[i] += dt * fluid.velocity[i];
+    const Real kappa = stiffness_density_[i] * inv_dt2 + stiffness_divergence_[i] * inv_dt2_div;
+    fluid.pressure[i] = fluid.rest_density[i] * fluid.density[i] * fluid.density[i] * kappa;
+  }
+  stats.dt = dt;
+  last_dt_ = dt;
+}
+
+}  // namespace sph

@@ -1,0 +1,46 @@
+#pragma once
+// Divergence-free SPH, Bender & Koschier, "Divergence-Free SPH for Incompressible and Turbulent
+// Flows", SCA 2015, and "Divergence-Free Smoothed Particle Hydrodynamics", IEEE TVCG 23(3), 2017.
+//
+// Step (the 2017 paper's Algorithm 1, started at the neighbour search):
+//   neighbours, densities, factors alpha_i (eq. 11 of the 2015 paper)
+//   -> divergence-free solve (Algorithm 2) -> non-pressure forces -> CFL time step
+//   -> predicted velocities -> constant-density solve (Algorithm 3) -> positions.
+//
+// We write both solves with a dt-free stiffness s_i (units m^2): the velocity change is
+//   dv_i = -(1/dt) [ sum_j V_j (s_i + s_j) grad W_ij + sum_b V_b s_i grad W_ib ],
+// the constant-density solve sets s_i = max(rho*_i/rho0 - 1, 0) alpha_i and the divergence solve
+// s_i = dt max(D rho_i/Dt / rho0, 0) alpha_i, which is the paper's kappa_i times dt^2 (eq. 8-10).
+// Being dt-free, the stiffness summed over one step's iterations warm-starts the next step even
+// when dt changes. Boundary particles mirror the fluid particle's pressure (Akinci et al. 2012),
+// which is why the boundary terms carry s_i only; alpha_i includes their gradients accordingly.
+
+#include "sph/pressure_solver.h"
+
+namespace sph {
+
+class DfsphSolver : public PressureSolver {
+ public:
+  DfsphSolver(const DfsphConfig& config, Real initial_dt);
+  std::string name() const override { return "dfsph"; }
+  void step(SolverHost& host, StepStats& stats) override;
+  void permute(const std::vector<Index>& order) override;
+
+ private:
+  void compute_factors(const FluidParticles& fluid, const ParticleNeighbourhood& nb);
+  int solve_divergence(FluidParticles& fluid, const ParticleNeighbourhood& nb, Real dt);
+  int solve_density(FluidParticles& fluid, const ParticleNeighbourhood& nb, Real dt,
+                    StepStats& stats);
+  // dv_i = -(1/dt) [sum_j V_j (s_i + s_j) grad W_ij + sum_b V_b s_i grad W_ib] for all i.
+  void apply_stiffness(FluidParticles& fluid, const ParticleNeighbourhood& nb,
+                       const std::vector<Real>& s, Real dt) const;
+
+  DfsphConfig config_;
+  Real last_dt_;
+  std::vector<Real> alpha_;                 // [n] 1 / (|sum V grad W|^2 + sum |V grad W|^2)
+  std::vector<Real> stiffness_density_;     // [n] sum of s over this step's density iterations
+  std::vector<Real> stiffness_divergence_;  // [n] same for the divergence solve
+  std::vector<Real> s_;                     // [n] stiffness of the current iteration
+};
+
+}  // namespace sph

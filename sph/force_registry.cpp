@@ -1,0 +1,17 @@
+#include "sph/gravity_force.h"
+#include "sph/non_pressure_force.h"
+#include "sph/viscosity_force.h"
+#include "sph/xsph_force.h"
+
+namespace sph {
+
+std::vector<std::unique_ptr<NonPressureForce>> make_non_pressure_forces(const SceneConfig& scene) {
+  std::vector<std::unique_ptr<NonPressureForce>> forces;
+  forces.push_back(std::make_unique<GravityForce>(scene.gravity));
+  if (scene.fluid.viscosity > 0 || scene.boundary.friction > 0)
+    forces.push_back(std::make_unique<ViscosityForce>(scene.fluid.viscosity, scene.boundary.friction));
+  if (scene.fluid.xsph > 0) forces.push_back(std::make_unique<XsphForce>(scene.fluid.xsph));
+  return forces;
+}
+
+}  // namespace sph

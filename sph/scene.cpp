@@ -1,0 +1,108 @@
+#include "sph/scene.h"
+
+#include <fstream>
+#include <sstream>
+
+#include "sph/config_error.h"
+#include "sph/config_visitors.h"
+
+namespace sph {
+
+namespace {
+
+void check_box(const Vec3& lo, const Vec3& hi, const std::string& file, const std::string& ptr) {
+  for (int k = 0; k < 3; ++k)
+    if (!(hi[k] > lo[k]))
+      throw ConfigError(file, ptr + "/max/" + std::to_string(k),
+                        "expected max > min on every axis, got min " + std::to_string(lo[k]) +
+                            " and max " + std::to_string(hi[k]));
+}
+
+// Checks that need more than one parameter.
+void check_consistency(const SceneConfig& s, const std::string& file) {
+  if (s.time_step.dt_min > s.time_step.dt_max)
+    throw ConfigError(file, "/time_step/dt_min",
+                      "expected <= dt_max (" + std::to_string(s.time_step.dt_max) + "), got " +
+                          std::to_string(s.time_step.dt_min));
+  if (s.dfsph.min_iterations > s.dfsph.max_iterations)
+    throw ConfigError(file, "/dfsph/min_iterations", "expected <= /dfsph/max_iterations");
+  if (s.output.frame_dt > s.end_time)
+    throw ConfigError(file, "/output/frame_dt", "expected <= /end_time");
+  for (size_t i = 0; i < s.boxes.size(); ++i)
+    check_box(s.boxes[i].min, s.boxes[i].max, file, "/boxes/" + std::to_string(i));
+  for (size_t i = 0; i < s.fluid_blocks.size(); ++i)
+    check_box(s.fluid_blocks[i].min, s.fluid_blocks[i].max, file,
+              "/fluid_blocks/" + std::to_string(i));
+  if (s.domain) check_box(s.domain->min, s.domain->max, file, "/domain");
+  for (size_t i = 0; i < s.height_fields.size(); ++i) {
+    const auto& hf = s.height_fields[i];
+    const std::string ptr = "/height_fields/" + std::to_string(i) + "/heights";
+    if (hf.heights.size() < 2) throw ConfigError(file, ptr, "expected at least 2 rows");
+    for (size_t r = 0; r < hf.heights.size(); ++r) {
+      if (hf.heights[r].size() != hf.heights[0].size() || hf.heights[r].size() < 2)
+        throw ConfigError(file, ptr + "/" + std::to_string(r),
+                          "expected rows of equal length >= 2");
+    }
+  }
+  if (s.fluid_blocks.empty())
+    throw ConfigError(file, "/fluid_blocks", "expected at least one fluid block");
+  if (s.domain) {
+    for (size_t i = 0; i < s.fluid_blocks.size(); ++i) {
+      const auto& b = s.fluid_blocks[i];
+      const Aabb d{s.domain->min, s.domain->max};
+      if (!d.contains(b.min) || !d.contains(b.max))
+        throw ConfigError(file, "/fluid_blocks/" + std::to_string(i),
+                          "fluid block lies outside /domain");
+    }
+  }
+}
+
+}  // namespace
+
+LoadedScene parse_scene(nlohmann::json j, const std::string& file) {
+  LoadedScene out;
+  out.file = file;
+  JsonReader::read_struct(j, file, "", out.config);
+  check_consistency(out.config, file);
+  out.resolved = JsonWriter::write_struct(out.config);
+  return out;
+}
+
+LoadedScene load_scene(const std::string& file, const std::vector<std::string>& overrides) {
+  std::ifstream in(file);
+  if (!in) throw ConfigError(file, "", "cannot open the scene file");
+  nlohmann::json j;
+  try {
+    j = nlohmann::json::parse(in, nullptr, true, /*ignore_comments=*/true);
+  } catch (const nlohmann::json::parse_error& e) {
+    throw ConfigError(file, "", std::string("not valid JSON: ") + e.what());
+  }
+  for (const auto& o : overrides) {
+    const auto eq = o.find('=');
+    if (eq == std::string::npos || o.empty() || o[0] != '/')
+      throw ConfigError(file, o, "a --set override must look like /json/pointer=value");
+    const std::string ptr = o.substr(0, eq);
+    const std::string text = o.substr(eq + 1);
+    nlohmann::json value;
+    try {
+      value = nlohmann::json::parse(text);
+    } catch (const nlohmann::json::parse_error&) {
+      value = text;  // not JSON: take it as a string, e.g. --set /solver=wcsph
+    }
+    try {
+      j[nlohmann::json::json_pointer(ptr)] = value;
+    } catch (const nlohmann::json::exception& e) {
+      throw ConfigError(file, ptr, std::string("cannot apply --set: ") + e.what());
+    }
+  }
+  return parse_scene(std::move(j), file);
+}
+
+std::string scene_reference_markdown() {
+  SceneConfig defaults;
+  DocTable table;
+  defaults.describe(table);
+  return "| key | unit | default | range | description |\n|---|---|---|---|---|\n" + table.rows();
+}
+
+}  // namespace sph

@@ -1,0 +1,239 @@
+#pragma once
+// Scene description: what a JSON file in configs/scenes/ holds. Every parameter is declared once
+// in a describe() list (name, unit, default, range, description); loading, the resolved copy in
+// metadata.json and docs/scene_reference.md all come from those lists.
+
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "sph/param_spec.h"
+#include "sph/types.h"
+
+namespace sph {
+
+std::vector<std::string> pressure_solver_names();  // defined in solver_registry.cpp
+
+struct TimeStepConfig {
+  Real cfl = 1;
+  Real dt_min = Real(1e-5);
+  Real dt_max = Real(0.005);
+  template <class V>
+  void describe(V& v) {
+    v.field("cfl", cfl, param("", "CFL number lambda in dt = lambda * 0.4 * diameter / |v|max")
+                            .positive()
+                            .at_most(10));
+    v.field("dt_min", dt_min, param("s", "Smallest time step").positive());
+    v.field("dt_max", dt_max, param("s", "Largest time step").positive());
+  }
+};
+
+struct DfsphConfig {
+  Real density_error_percent = Real(0.05);
+  Real divergence_error_percent = Real(0.1);
+  int min_iterations = 2;
+  int max_iterations = 100;
+  bool warm_start = true;
+  bool divergence_solver = true;
+  template <class V>
+  void describe(V& v) {
+    v.field("density_error_percent", density_error_percent,
+            param("%", "Stop the constant-density solve when the mean density error is below this")
+                .positive()
+                .at_most(10));
+    v.field("divergence_error_percent", divergence_error_percent,
+            param("%", "Stop the divergence-free solve when the mean density change per step is "
+                       "below this")
+                .positive()
+                .at_most(10));
+    v.field("min_iterations", min_iterations,
+            param("", "Fewest iterations of each solve").at_least(0).at_most(1000));
+    v.field("max_iterations", max_iterations,
+            param("", "Most iterations of each solve").at_least(1).at_most(10000));
+    v.field("warm_start", warm_start,
+            param("", "Start each solve from the previous step's pressure"));
+    v.field("divergence_solver", divergence_solver,
+            param("", "Run the divergence-free solve (off: constant-density solve only)"));
+  }
+};
+
+struct WcsphConfig {
+  Real stiffness_exponent = 7;
+  Real expected_max_velocity = 5;
+  Real sound_speed_factor = 10;
+  template <class V>
+  void describe(V& v) {
+    v.field("stiffness_exponent", stiffness_exponent,
+            param("", "Exponent gamma of Tait's equation").at_least(1).at_most(10));
+    v.field("expected_max_velocity", expected_max_velocity,
+            param("m/s", "Largest flow speed expected; sets the speed of sound").positive());
+    v.field("sound_speed_factor", sound_speed_factor,
+            param("", "Speed of sound = this x expected_max_velocity (10 keeps density "
+                      "fluctuations near 1 %)")
+                .at_least(1));
+  }
+};
+
+struct FluidMaterialConfig {
+  Real density = 1000;
+  Real viscosity = Real(0.01);
+  Real xsph = 0;
+  template <class V>
+  void describe(V& v) {
+    v.field("density", density, param("kg/m^3", "Rest density").positive());
+    v.field("viscosity", viscosity,
+            param("m^2/s", "Kinematic viscosity of the SPH Laplacian viscosity force")
+                .non_negative());
+    v.field("xsph", xsph, param("", "XSPH velocity smoothing coefficient").non_negative().at_most(1));
+  }
+};
+
+struct BoundaryConfig {
+  Real friction = 0;
+  template <class V>
+  void describe(V& v) {
+    v.field("friction", friction,
+            param("m^2/s", "Kinematic viscosity between fluid and boundary (0: free slip)")
+                .non_negative());
+  }
+};
+
+struct BoxConfig {
+  Vec3 min = Vec3::Zero();
+  Vec3 max = Vec3::Zero();
+  std::string fluid_side = "inside";
+  bool open_top = false;
+  template <class V>
+  void describe(V& v) {
+    v.field("min", min, param("m", "Lower corner").require());
+    v.field("max", max, param("m", "Upper corner").require());
+    v.field("fluid_side", fluid_side,
+            param("", "inside: a tank holding fluid; outside: an obstacle in the fluid")
+                .one_of({"inside", "outside"}));
+    v.field("open_top", open_top, param("", "Leave out the top face (a tank without a lid)"));
+  }
+};
+
+// Terrain given as a regular grid of heights z(x, y): heights[iy][ix] at
+// (origin.x + ix * cell_size, origin.y + iy * cell_size).
+struct HeightFieldConfig {
+  Vec3 origin = Vec3::Zero();
+  Real cell_size = 0;
+  std::vector<std::vector<Real>> heights;
+  template <class V>
+  void describe(V& v) {
+    v.field("origin", origin, param("m", "Position of heights[0][0] (z is ignored)").require());
+    v.field("cell_size", cell_size, param("m", "Grid spacing").positive().require());
+    v.field("heights", heights,
+            param("m", "Rows of heights, heights[iy][ix]; at least 2 x 2").require());
+  }
+};
+
+struct FluidBlockConfig {
+  Vec3 min = Vec3::Zero();
+  Vec3 max = Vec3::Zero();
+  Vec3 velocity = Vec3::Zero();
+  template <class V>
+  void describe(V& v) {
+    v.field("min", min, param("m", "Lower corner").require());
+    v.field("max", max, param("m", "Upper corner").require());
+    v.field("velocity", velocity, param("m/s", "Initial velocity"));
+  }
+};
+
+struct DomainConfig {
+  Vec3 min = Vec3::Zero();
+  Vec3 max = Vec3::Zero();
+  template <class V>
+  void describe(V& v) {
+    v.field("min", min, param("m", "Lower corner").require());
+    v.field("max", max, param("m", "Upper corner").require());
+  }
+};
+
+struct OutputConfig {
+  Real frame_dt = Real(0.02);
+  template <class V>
+  void describe(V& v) {
+    v.field("frame_dt", frame_dt,
+            param("s", "Simulated time between recorded frames (time steps end exactly on frames)")
+                .positive());
+  }
+};
+
+struct SceneConfig {
+  std::string name = "scene";
+  std::string description;
+  std::string solver = "dfsph";
+  std::string kernel = "cubic_spline";
+  Real particle_radius = Real(0.025);
+  Real support_factor = 4;
+  Real end_time = 1;
+  Vec3 gravity = Vec3(0, 0, Real(-9.81));
+  int reorder_interval = 20;
+  TimeStepConfig time_step;
+  FluidMaterialConfig fluid;
+  BoundaryConfig boundary;
+  DfsphConfig dfsph;
+  WcsphConfig wcsph;
+  OutputConfig output;
+  std::vector<BoxConfig> boxes;
+  std::vector<HeightFieldConfig> height_fields;
+  std::vector<FluidBlockConfig> fluid_blocks;
+  std::optional<DomainConfig> domain;
+
+  Real particle_diameter() const { return 2 * particle_radius; }
+  Real support_radius() const { return support_factor * particle_radius; }
+
+  template <class V>
+  void describe(V& v) {
+    v.field("name", name, param("", "Short name of the scene"));
+    v.field("description", description, param("", "What the scene shows"));
+    v.field("solver", solver, param("", "Pressure solver").one_of(pressure_solver_names()));
+    v.field("kernel", kernel,
+            param("", "Smoothing kernel").one_of({"cubic_spline", "wendland_c2"}));
+    v.field("particle_radius", particle_radius,
+            param("m", "Fluid particle radius; particles are spaced one diameter apart")
+                .positive()
+                .require());
+    v.field("support_factor", support_factor,
+            param("", "Kernel support radius in particle radii").at_least(2).at_most(8));
+    v.field("end_time", end_time, param("s", "Simulated time to run").positive().require());
+    v.field("gravity", gravity, param("m/s^2", "Gravity; z is up"));
+    v.field("reorder_interval", reorder_interval,
+            param("steps", "Sort particle arrays by grid cell every this many steps (0: never)")
+                .at_least(0));
+    v.field("time_step", time_step, param("", "Adaptive time step"));
+    v.field("fluid", fluid, param("", "Fluid material"));
+    v.field("boundary", boundary, param("", "Fluid-boundary interaction"));
+    v.field("dfsph", dfsph, param("", "DFSPH solver settings"));
+    v.field("wcsph", wcsph, param("", "WCSPH solver settings"));
+    v.field("output", output, param("", "Recording"));
+    v.field("boxes", boxes, param("", "Boxes sampled with boundary particles"));
+    v.field("height_fields", height_fields, param("", "Terrain surfaces sampled with boundary "
+                                                      "particles"));
+    v.field("fluid_blocks", fluid_blocks, param("", "Blocks filled with fluid particles"));
+    v.field("domain", domain,
+            param("", "Simulation domain; particles leaving it stop the run (default: the "
+                      "bounding box of boundary and fluid, grown by one support radius)"));
+  }
+};
+
+struct LoadedScene {
+  SceneConfig config;
+  nlohmann::json resolved;  // every parameter, defaults filled in
+  std::string file;
+};
+
+// Loads a scene file, applying `overrides` ("/json/pointer=value"; value parsed as JSON, or taken
+// as a string when it is not JSON) before validation. Throws ConfigError naming file and pointer.
+LoadedScene load_scene(const std::string& file, const std::vector<std::string>& overrides = {});
+
+// Validates an in-memory scene (as load_scene does after parsing). `file` names it in errors.
+LoadedScene parse_scene(nlohmann::json j, const std::string& file);
+
+// The parameter reference of scene files as a Markdown table.
+std::string scene_reference_markdown();
+
+}  // namespace sph

@@ -1,0 +1,237 @@
+#include "sph/scene_runner.h"
+
+#include <unistd.h>
+
+#include <chrono>
+#include <cmath>
+#include <fstream>
+#include <iostream>
+#include <sstream>
+
+#include "sph/config_error.h"
+#include "sph/ply_writer.h"
+#include "sph/progress.h"
+#include "sph/trajectory_writer.h"
+
+namespace sph {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+int frame_count(const SceneConfig& s) {
+  return int(std::llround(double(s.end_time) / double(s.output.frame_dt)));
+}
+
+nlohmann::json vec_json(const Vec3& v) { return {double(v[0]), double(v[1]), double(v[2])}; }
+
+void write_json(const fs::path& file, const nlohmann::json& j) {
+  std::ofstream out(file);
+  out << j.dump(2) << "\n";
+  if (!out) throw SimulationError(file.string() + ": write failed");
+}
+
+nlohmann::json frame_json(const Simulation& sim, const FrameStats& f) {
+  return {{"t", sim.time()},
+          {"steps", f.steps},
+          {"dt_min", f.dt_min},
+          {"dt_max", f.dt_max},
+          {"density_error_avg", f.density_error_avg},
+          {"density_error_max", f.density_error_max},
+          {"iterations_density", f.iterations_density},
+          {"iterations_divergence", f.iterations_divergence},
+          {"kinetic_energy", sim.kinetic_energy()}};
+}
+
+nlohmann::json summary_json(const Simulation& sim, double wall_s, double iterations_density,
+                            double iterations_divergence, int threads) {
+  const TimeSplit& t = sim.timing();
+  const double particle_steps = double(sim.steps()) * double(sim.fluid().active_count());
+  return {{"wall_s", wall_s},
+          {"steps", sim.steps()},
+          {"simulated_s", sim.time()},
+          {"fluid_particles", sim.fluid().active_count()},
+          {"boundary_particles", sim.boundary().size()},
+          {"particle_steps_per_s", wall_s > 0 ? particle_steps / wall_s : 0.0},
+          {"iterations_density_avg", iterations_density},
+          {"iterations_divergence_avg", iterations_divergence},
+          {"threads", threads},
+          {"time_split",
+           {{"neighbour_search", t.neighbour_search},
+            {"pressure_solve", t.pressure_solve},
+            {"other", t.other()}}}};
+}
+
+std::string frame_detail(const Simulation& sim, const FrameStats& f) {
+  std::ostringstream s;
+  s.precision(3);
+  s << "t=" << sim.time() << "s steps=" << f.steps << " it=" << f.iterations_density << "/"
+    << f.iterations_divergence << " err=" << f.density_error_avg * 100 << "%";
+  return s.str();
+}
+
+PlyPoints fluid_points(const Simulation& sim) {
+  const FluidParticles& f = sim.fluid();
+  PlyPoints p;
+  for (Index i = 0; i < f.active_count(); ++i) {
+    p.position.push_back(f.position[i]);
+    p.velocity.push_back(f.velocity[i]);
+    p.type.push_back(std::int32_t(f.type[i]));
+    p.pressure.push_back(f.pressure[i]);
+  }
+  return p;
+}
+
+std::string ply_name(int frame) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "fluid_%05d.ply", frame);
+  return buf;
+}
+
+// Removes the staging folder unless the run succeeded and renamed it.
+struct StagingGuard {
+  fs::path path;
+  bool keep = false;
+  ~StagingGuard() {
+    std::error_code ec;
+    if (!keep) fs::remove_all(path, ec);
+  }
+};
+
+}  // namespace
+
+nlohmann::json machine_description(int threads) {
+  std::string cpu = "unknown";
+  std::ifstream info("/proc/cpuinfo");
+  for (std::string line; std::getline(info, line);)
+    if (line.rfind("model name", 0) == 0) {
+      cpu = line.substr(line.find(':') + 2);
+      break;
+    }
+  return {{"cpu", cpu},
+          {"hardware_threads", long(sysconf(_SC_NPROCESSORS_ONLN))},
+          {"threads", threads},
+#ifdef NDEBUG
+          {"build_type", "Release"},
+#else
+          {"build_type", "Debug"},
+#endif
+          {"real", sizeof(Real) == 4 ? "float32" : "float64"}};
+}
+
+nlohmann::json run_metadata(const Simulation& sim, const LoadedScene& scene, int frames) {
+  const SceneConfig& s = scene.config;
+  const Aabb& d = sim.domain();
+  const double stride = std::max(1.0, std::round(double(s.output.frame_dt) / double(s.time_step.dt_max)));
+  return {{"dim", 3},
+          {"frame_dt", double(s.output.frame_dt)},
+          {"dt", double(s.output.frame_dt)},
+          {"frame_stride", long(stride)},
+          {"frame_stride_note",
+           "solver steps per frame at dt_max; the adaptive step may take more, see stats.json"},
+          {"sequence_length", frames + 1},
+          {"bounds",
+           {{double(d.min[0]), double(d.max[0])},
+            {double(d.min[1]), double(d.max[1])},
+            {double(d.min[2]), double(d.max[2])}}},
+          {"particle_radius", double(s.particle_radius)},
+          {"support_radius", double(s.support_radius())},
+          {"default_connectivity_radius", double(s.support_radius())},
+          {"gravity", vec_json(s.gravity)},
+          {"solver", s.solver},
+          {"kernel", s.kernel},
+          {"fluid_particles", sim.fluid().size()},
+          {"boundary_particles", sim.boundary().size()},
+          {"particle_types", {{"water", 0}, {"oil", 1}, {"boundary", 2}}},
+          {"scene_file", scene.file},
+          {"scene", scene.resolved}};
+}
+
+nlohmann::json run_scene(const LoadedScene& scene, const RunOptions& options) {
+  const fs::path out = options.out_dir;
+  if (out.empty()) throw SimulationError("no output folder given");
+  if (fs::exists(out) && !options.force)
+    throw SimulationError(out.string() + ": already exists (use --force to replace it)");
+  const fs::path parent = out.parent_path().empty() ? fs::path(".") : out.parent_path();
+  fs::create_directories(parent);
+  StagingGuard staging{parent / ("." + out.filename().string() + ".partial-" +
+                                 std::to_string(long(getpid())))};
+  fs::remove_all(staging.path);
+  fs::create_directories(staging.path);
+  if (options.ply) fs::create_directories(staging.path / "ply");
+
+  Simulation sim(scene.config);
+  const int frames = frame_count(scene.config);
+  write_json(staging.path / "metadata.json", run_metadata(sim, scene, frames));
+
+  std::vector<std::int32_t> types(sim.fluid().size());
+  for (Index i = 0; i < sim.fluid().size(); ++i)
+    types[sim.fluid().id[i]] = std::int32_t(sim.fluid().type[i]);
+  TrajectoryWriter writer((staging.path / "trajectory.h5").string(), "00000", types,
+                          sim.boundary().position);
+  auto record = [&](int frame) {
+    std::vector<std::uint8_t> active(sim.fluid().size(), 0);
+    for (Index i = 0; i < sim.fluid().active_count(); ++i) active[sim.fluid().id[i]] = 1;
+    writer.append(sim.time(), sim.positions_by_id(), sim.velocities_by_id(), active);
+    if (options.ply) write_ply((staging.path / "ply" / ply_name(frame)).string(), fluid_points(sim));
+  };
+  if (options.ply) {
+    PlyPoints b;
+    b.position = sim.boundary().position;
+    b.type.assign(b.position.size(), std::int32_t(ParticleType::kBoundary));
+    write_ply((staging.path / "ply" / "boundary.ply").string(), b);
+  }
+
+  nlohmann::json frame_list = nlohmann::json::array();
+  frame_list.push_back(frame_json(sim, FrameStats{}));
+  record(0);
+  ProgressReporter progress(options.log ? *options.log : std::cerr, options.terminal, frames,
+                            "simulating " + scene.config.name);
+  const auto t0 = std::chrono::steady_clock::now();
+  double it_density = 0, it_divergence = 0;
+  for (int frame = 1; frame <= frames; ++frame) {
+    if (options.stop && options.stop->load())
+      throw RunInterrupted("interrupted at frame " + std::to_string(frame) + "; nothing written");
+    const FrameStats f = sim.advance_to(double(frame) * double(scene.config.output.frame_dt), frame);
+    it_density += f.iterations_density * f.steps;
+    it_divergence += f.iterations_divergence * f.steps;
+    frame_list.push_back(frame_json(sim, f));
+    record(frame);
+    if (options.log) progress.update(frame, frame_detail(sim, f));
+  }
+  const double wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  writer.close();
+  const double steps = double(std::max(1L, sim.steps()));
+  nlohmann::json summary =
+      summary_json(sim, wall_s, it_density / steps, it_divergence / steps, options.threads);
+  write_json(staging.path / "stats.json", {{"frames", frame_list}, {"summary", summary}});
+  if (options.log) progress.finish(std::to_string(sim.steps()) + " steps");
+
+  if (fs::exists(out)) fs::remove_all(out);
+  fs::rename(staging.path, out);
+  staging.keep = true;
+  return summary;
+}
+
+nlohmann::json benchmark_scene(const LoadedScene& scene, int threads, std::ostream* log) {
+  Simulation sim(scene.config);
+  const int frames = frame_count(scene.config);
+  ProgressReporter progress(log ? *log : std::cerr, false, frames, "bench " + scene.config.name);
+  double it_density = 0, it_divergence = 0;
+  const auto t0 = std::chrono::steady_clock::now();
+  for (int frame = 1; frame <= frames; ++frame) {
+    const FrameStats f = sim.advance_to(double(frame) * double(scene.config.output.frame_dt), frame);
+    it_density += f.iterations_density * f.steps;
+    it_divergence += f.iterations_divergence * f.steps;
+    if (log) progress.update(frame, frame_detail(sim, f));
+  }
+  const double wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  const double steps = double(std::max(1L, sim.steps()));
+  nlohmann::json j = summary_json(sim, wall_s, it_density / steps, it_divergence / steps, threads);
+  j["scene"] = scene.config.name;
+  j["solver"] = scene.config.solver;
+  j["particle_radius"] = double(scene.config.particle_radius);
+  return j;
+}
+
+}  // namespace sph

@@ -1,0 +1,207 @@
+#include "sph/simulation.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <sstream>
+
+#include "sph/config_error.h"
+
+namespace sph {
+
+namespace {
+double seconds_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+std::string format_vec(const Vec3& p) {
+  std::ostringstream s;
+  s << "(" << p[0] << ", " << p[1] << ", " << p[2] << ")";
+  return s.str();
+}
+}  // namespace
+
+KernelKind kernel_kind(const std::string& name) {
+  if (name == "wendland_c2") return KernelKind::kWendlandC2;
+  return KernelKind::kCubicSpline;
+}
+
+std::vector<Vec3> lattice_points(const Vec3& lo, const Vec3& hi, Real spacing) {
+  std::vector<Vec3> points;
+  const Real half = Real(0.5) * spacing;
+  int n[3];
+  for (int k = 0; k < 3; ++k)
+    n[k] = std::max(0, int(std::floor((hi[k] - lo[k]) / spacing + Real(1e-4))));
+  for (int iz = 0; iz < n[2]; ++iz)
+    for (int iy = 0; iy < n[1]; ++iy)
+      for (int ix = 0; ix < n[0]; ++ix)
+        points.emplace_back(lo[0] + half + Real(ix) * spacing, lo[1] + half + Real(iy) * spacing,
+                            lo[2] + half + Real(iz) * spacing);
+  return points;
+}
+
+Real lattice_rest_volume(KernelKind kernel, Real support_radius, Real spacing) {
+  const int reach = int(std::ceil(support_radius / spacing));
+  return with_kernel(kernel, support_radius, [&](const auto& w) {
+    double sum = 0;
+    for (int i = -reach; i <= reach; ++i)
+      for (int j = -reach; j <= reach; ++j)
+        for (int k = -reach; k <= reach; ++k)
+          sum += double(w.value(Vec3(Real(i) * spacing, Real(j) * spacing, Real(k) * spacing)));
+    return Real(1.0 / sum);
+  });
+}
+
+Simulation::Simulation(const SceneConfig& scene) : scene_(scene), kernel_(kernel_kind(scene.kernel)) {
+  boundary_ = build_boundary(scene_, kernel_);
+  const Real spacing = scene_.particle_diameter();
+  const Real volume = lattice_rest_volume(kernel_, scene_.support_radius(), spacing);
+  for (const auto& block : scene_.fluid_blocks)
+    for (const auto& p : lattice_points(block.min, block.max, spacing))
+      fluid_.add(p, block.velocity, volume, scene_.fluid.density, ParticleType::kWater);
+
+  if (scene_.domain) {
+    domain_ = Aabb{scene_.domain->min, scene_.domain->max};
+  } else {
+    domain_ = Aabb{fluid_.size() ? fluid_.position[0] : Vec3::Zero(),
+                   fluid_.size() ? fluid_.position[0] : Vec3::Zero()};
+    for (const auto& p : boundary_.position) {
+      domain_.min = domain_.min.cwiseMin(p);
+      domain_.max = domain_.max.cwiseMax(p);
+    }
+    for (const auto& b : scene_.fluid_blocks) {
+      domain_.min = domain_.min.cwiseMin(b.min);
+      domain_.max = domain_.max.cwiseMax(b.max);
+    }
+    domain_.min.array() -= scene_.support_radius();
+    domain_.max.array() += scene_.support_radius();
+  }
+  neighbourhood_ = std::make_unique<ParticleNeighbourhood>(domain_, kernel_, scene_.support_radius(),
+                                                           boundary_);
+  solver_ = make_pressure_solver(scene_);
+  forces_ = make_non_pressure_forces(scene_);
+  for (Index i = 0; i < fluid_.size(); ++i)
+    if (!domain_.contains(fluid_.position[i]))
+      throw SimulationError("fluid particle " + std::to_string(i) + " at " +
+                            format_vec(fluid_.position[i]) + " starts outside the domain");
+}
+
+void Simulation::update_neighbourhood() {
+  const auto t0 = std::chrono::steady_clock::now();
+  try {
+    neighbourhood_->update(fluid_, boundary_);
+  } catch (const PointOutsideDomain& e) {
+    const Index i = e.index();
+    throw SimulationError("frame " + std::to_string(current_frame_) + " (t = " +
+                          std::to_string(time_) + " s): particle " + std::to_string(fluid_.id[i]) +
+                          " left the domain [" + format_vec(domain_.min) + ", " +
+                          format_vec(domain_.max) + "] at " + format_vec(fluid_.position[i]) +
+                          " with velocity " + format_vec(fluid_.velocity[i]));
+  }
+  time_split_.neighbour_search += seconds_since(t0);
+}
+
+Real Simulation::choose_time_step(Real solver_limit) {
+  const long n = long(fluid_.active_count());
+  Real v2_max = 0;
+#pragma omp parallel for schedule(static) reduction(max : v2_max)
+  for (long i = 0; i < n; ++i) v2_max = std::max(v2_max, fluid_.velocity[size_t(i)].squaredNorm());
+  const auto& ts = scene_.time_step;
+  Real dt = ts.dt_max;
+  if (v2_max > 0) dt = ts.cfl * Real(0.4) * scene_.particle_diameter() / std::sqrt(v2_max);
+  dt = std::clamp(dt, ts.dt_min, ts.dt_max);
+  dt = std::min(dt, solver_limit);
+  // End exactly on the frame: split the remaining time into equal steps no longer than dt.
+  const double remaining = step_end_ - time_;
+  const double parts = std::max(1.0, std::ceil(remaining / double(dt) - 1e-6));
+  return Real(remaining / parts);
+}
+
+void Simulation::compute_non_pressure_accelerations(Real dt) {
+  const long n = long(fluid_.active_count());
+#pragma omp parallel for schedule(static)
+  for (long i = 0; i < n; ++i) fluid_.acceleration[size_t(i)].setZero();
+  for (auto& force : forces_) force->add_acceleration(fluid_, boundary_, *neighbourhood_, dt);
+}
+
+void Simulation::check_state(int frame) const {
+  const long n = long(fluid_.active_count());
+  long bad = -1;
+#pragma omp parallel for schedule(static) reduction(max : bad)
+  for (long i = 0; i < n; ++i)
+    if (!fluid_.position[size_t(i)].allFinite() || !fluid_.velocity[size_t(i)].allFinite())
+      bad = std::max(bad, i);
+  if (bad >= 0)
+    throw SimulationError("frame " + std::to_string(frame) + " (t = " + std::to_string(time_) +
+                          " s): particle " + std::to_string(fluid_.id[size_t(bad)]) +
+                          " has a non-finite state: position " +
+                          format_vec(fluid_.position[size_t(bad)]) + ", velocity " +
+                          format_vec(fluid_.velocity[size_t(bad)]) +
+                          " (the time step may be too large for the solver)");
+}
+
+void Simulation::reorder_by_cell() {
+  // cell_order() is from the last neighbour search, before the last advection; it is still a
+  // good locality order, and any permutation is correct.
+  const std::vector<Index> order = neighbourhood_->cell_order();
+  if (order.size() != fluid_.active_count()) return;
+  fluid_.permute(order);
+  solver_->permute(order);
+}
+
+FrameStats Simulation::advance_to(double t_end, int frame) {
+  FrameStats stats;
+  step_end_ = t_end;
+  current_frame_ = frame;
+  const double eps = 1e-9 * std::max(1.0, std::abs(t_end));
+  double err_sum = 0, it_density = 0, it_divergence = 0;
+  while (time_ < t_end - eps) {
+    const auto t0 = std::chrono::steady_clock::now();
+    StepStats step;
+    solver_->step(*this, step);
+    time_ += double(step.dt);
+    ++steps_;
+    ++stats.steps;
+    check_state(frame);
+    if (scene_.reorder_interval > 0 && steps_ % scene_.reorder_interval == 0) reorder_by_cell();
+    time_split_.total += seconds_since(t0);
+    err_sum += step.density_error_avg;
+    stats.density_error_max = std::max(stats.density_error_max, step.density_error_max);
+    it_density += step.iterations_density;
+    it_divergence += step.iterations_divergence;
+    stats.dt_min = stats.steps == 1 ? double(step.dt) : std::min(stats.dt_min, double(step.dt));
+    stats.dt_max = std::max(stats.dt_max, double(step.dt));
+  }
+  time_ = std::max(time_, t_end);
+  if (stats.steps > 0) {
+    stats.density_error_avg = err_sum / stats.steps;
+    stats.iterations_density = it_density / stats.steps;
+    stats.iterations_divergence = it_divergence / stats.steps;
+  }
+  return stats;
+}
+
+double Simulation::kinetic_energy() const {
+  double e = 0;
+  for (Index i = 0; i < fluid_.active_count(); ++i)
+    e += 0.5 * double(fluid_.rest_density[i] * fluid_.rest_volume[i]) *
+         double(fluid_.velocity[i].squaredNorm());
+  return e;
+}
+
+std::vector<Vec3> Simulation::positions_by_id() const {
+  std::vector<Vec3> out(fluid_.size());
+  for (Index i = 0; i < fluid_.size(); ++i) out[fluid_.id[i]] = fluid_.position[i];
+  return out;
+}
+std::vector<Vec3> Simulation::velocities_by_id() const {
+  std::vector<Vec3> out(fluid_.size());
+  for (Index i = 0; i < fluid_.size(); ++i) out[fluid_.id[i]] = fluid_.velocity[i];
+  return out;
+}
+std::vector<Real> Simulation::pressures_by_id() const {
+  std::vector<Real> out(fluid_.size());
+  for (Index i = 0; i < fluid_.size(); ++i) out[fluid_.id[i]] = fluid_.pressure[i];
+  return out;
+}
+
+}  // namespace sph

@@ -1,0 +1,89 @@
+#pragma once
+// A Simulation owns one scene's state: fluid and boundary particles, neighbourhood, pressure
+// solver, non-pressure forces, clock and time-step policy. Nothing global: two simulations can
+// run side by side.
+
+#include <memory>
+#include <vector>
+
+#include "sph/boundary.h"
+#include "sph/neighbourhood.h"
+#include "sph/non_pressure_force.h"
+#include "sph/particle_set.h"
+#include "sph/pressure_solver.h"
+#include "sph/scene.h"
+#include "sph/solver_host.h"
+
+namespace sph {
+
+// Figures of the steps between two recorded frames.
+struct FrameStats {
+  int steps = 0;
+  double density_error_avg = 0;      // mean over the steps
+  double density_error_max = 0;      // max over the steps
+  double iterations_density = 0;     // mean per step
+  double iterations_divergence = 0;  // mean per step
+  double dt_min = 0, dt_max = 0;
+};
+
+KernelKind kernel_kind(const std::string& name);
+
+// Fluid particle positions filling [lo, hi] on a cubic lattice with spacing `spacing` whose
+// first particle sits half a spacing inside the lower corner.
+std::vector<Vec3> lattice_points(const Vec3& lo, const Vec3& hi, Real spacing);
+
+// Rest volume that gives an interior particle of that lattice exactly the rest density
+// (1 / sum_j W_ij over the lattice), so a block starts at rho = rho0 instead of a few percent off.
+Real lattice_rest_volume(KernelKind kernel, Real support_radius, Real spacing);
+
+class Simulation : private SolverHost {
+ public:
+  explicit Simulation(const SceneConfig& scene);
+
+  // Steps until time() reaches t_end (the last step is shortened to end exactly there).
+  // `frame` is used in error messages. Throws SimulationError on NaN or a particle leaving the
+  // domain.
+  FrameStats advance_to(double t_end, int frame);
+
+  double time() const { return time_; }
+  long steps() const { return steps_; }
+  const SceneConfig& scene() const { return scene_; }
+  const FluidParticles& fluid() const { return fluid_; }
+  const BoundaryParticles& boundary() const { return boundary_; }
+  const Aabb& domain() const { return domain_; }
+  const TimeSplit& timing() const { return time_split_; }
+  double kinetic_energy() const;  // J, of the active fluid
+
+  // Identity-ordered copies (index = particle id) for writers.
+  std::vector<Vec3> positions_by_id() const;
+  std::vector<Vec3> velocities_by_id() const;
+  std::vector<Real> pressures_by_id() const;
+
+ private:
+  // SolverHost
+  FluidParticles& mutable_fluid() override { return fluid_; }
+  const ParticleNeighbourhood& neighbourhood() const override { return *neighbourhood_; }
+  void update_neighbourhood() override;
+  Real choose_time_step(Real solver_limit) override;
+  void compute_non_pressure_accelerations(Real dt) override;
+  TimeSplit& time_split() override { return time_split_; }
+
+  void check_state(int frame) const;
+  void reorder_by_cell();
+
+  SceneConfig scene_;
+  KernelKind kernel_;
+  BoundaryParticles boundary_;
+  FluidParticles fluid_;
+  Aabb domain_;
+  std::unique_ptr<ParticleNeighbourhood> neighbourhood_;
+  std::unique_ptr<PressureSolver> solver_;
+  std::vector<std::unique_ptr<NonPressureForce>> forces_;
+  TimeSplit time_split_;
+  double time_ = 0;
+  double step_end_ = 0;  // time the current advance_to() must end on
+  long steps_ = 0;
+  int current_frame_ = 0;
+};
+
+}  // namespace sph

@@ -1,0 +1,22 @@
+// The one place that maps a scene's `solver` name to a pressure solver.
+
+#include <stdexcept>
+
+#include "sph/dfsph_solver.h"
+#include "sph/pressure_solver.h"
+#include "sph/wcsph_solver.h"
+
+namespace sph {
+
+std::vector<std::string> pressure_solver_names() { return {"dfsph", "wcsph"}; }
+
+std::unique_ptr<PressureSolver> make_pressure_solver(const SceneConfig& scene) {
+  if (scene.solver == "dfsph")
+    return std::make_unique<DfsphSolver>(scene.dfsph, scene.time_step.dt_max);
+  if (scene.solver == "wcsph")
+    return std::make_unique<WcsphSolver>(scene.wcsph, scene.particle_diameter(),
+                                         scene.time_step.cfl);
+  throw std::invalid_argument("unknown pressure solver \"" + scene.solver + "\"");
+}
+
+}  // namespace sph

@@ -1,0 +1,25 @@
+#pragma once
+// Viscosity with the standard SPH Laplacian approximation of
+//   Monaghan, "Smoothed particle hydrodynamics", Rep. Prog. Phys. 68 (2005), eq. 6.26 form:
+//   a_i = 2 (d + 2) nu sum_j (m_j / rho_j) (v_ij . x_ij) / (|x_ij|^2 + 0.01 h^2) grad W_ij
+// with d = 3. The same term against the (resting) boundary particles, with its own coefficient,
+// is the boundary friction (Akinci et al. 2012 use this form for rigid-fluid friction).
+
+#include "sph/non_pressure_force.h"
+
+namespace sph {
+
+class ViscosityForce : public NonPressureForce {
+ public:
+  ViscosityForce(Real viscosity, Real boundary_viscosity)
+      : nu_(viscosity), nu_boundary_(boundary_viscosity) {}
+  std::string name() const override { return "viscosity"; }
+  void add_acceleration(FluidParticles& fluid, const BoundaryParticles& boundary,
+                        const ParticleNeighbourhood& neighbourhood, Real dt) override;
+
+ private:
+  Real nu_;
+  Real nu_boundary_;
+};
+
+}  // namespace sph

@@ -1,0 +1,34 @@
+#pragma once
+// XSPH velocity smoothing, Monaghan, "On the problem of penetration in particle methods",
+// J. Comput. Phys. 82 (1989): v_i += c sum_j (m_j / rho_j) (v_j - v_i) W_ij, applied as the
+// acceleration that produces this change over the coming step.
+
+#include "sph/non_pressure_force.h"
+
+namespace sph {
+
+class XsphForce : public NonPressureForce {
+ public:
+  explicit XsphForce(Real coefficient) : c_(coefficient) {}
+  std::string name() const override { return "xsph"; }
+  void add_acceleration(FluidParticles& fluid, const BoundaryParticles&,
+                        const ParticleNeighbourhood& nb, Real dt) override {
+    const long n = long(fluid.active_count());
+    const Real scale = c_ / dt;
+    const Vec3* v = fluid.velocity.data();
+#pragma omp parallel for schedule(static)
+    for (long li = 0; li < n; ++li) {
+      const Index i = Index(li);
+      Vec3 dv = Vec3::Zero();
+      nb.fluid.for_each(i, [&](Index j, Index k) {
+        dv += (fluid.rest_volume[j] / fluid.density[j] * nb.fluid.value[k]) * (v[j] - v[i]);
+      });
+      fluid.acceleration[i] += scale * dv;
+    }
+  }
+
+ private:
+  Real c_;
+};
+
+}  // namespace sph
