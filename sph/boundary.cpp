@@ -5,6 +5,7 @@
 #include <map>
 #include <tuple>
 
+#include "sph/lattice.h"
 #include "sph/neighbour_grid.h"
 
 namespace sph {
@@ -121,13 +122,30 @@ std::vector<Real> boundary_volumes(const std::vector<Vec3>& positions, KernelKin
 
 BoundaryParticles build_boundary(const SceneConfig& scene, KernelKind kernel) {
   const Real spacing = scene.particle_diameter();
+  // The boundary layer sits behind each declared surface, at the distance where a fluid lattice
+  // resting against the surface (centres one radius in front of it) has the rest density: about
+  // 1.3 radii for the cubic spline with a 4-radius support. A layer on the surface itself would
+  // give 1.55 rho0 at one radius, and the first pressure solve would blow such a block apart.
+  const Real offset = boundary_layer_offset(kernel, scene.support_radius(), spacing);
   std::vector<Vec3> points;
   for (const auto& box : scene.boxes) {
-    auto p = sample_box_surface(box.min, box.max, spacing, box.open_top);
+    Vec3 lo = box.min, hi = box.max;
+    if (box.fluid_side == "inside") {
+      lo.array() -= offset;
+      hi.array() += offset;
+    } else {
+      const Vec3 centre = Real(0.5) * (lo + hi);
+      lo = (lo.array() + offset).cwiseMin(centre.array());
+      hi = (hi.array() - offset).cwiseMax(centre.array());
+    }
+    auto p = sample_box_surface(lo, hi, spacing, box.open_top);
     points.insert(points.end(), p.begin(), p.end());
   }
   for (const auto& field : scene.height_fields) {
-    auto p = sample_height_field(field, spacing);
+    HeightFieldConfig lowered = field;
+    for (auto& row : lowered.heights)
+      for (auto& z : row) z -= offset;
+    auto p = sample_height_field(lowered, spacing);
     points.insert(points.end(), p.begin(), p.end());
   }
   BoundaryParticles boundary;

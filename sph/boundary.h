@@ -34,7 +34,9 @@ std::vector<Vec3> sample_height_field(const HeightFieldConfig& field, Real spaci
 std::vector<Real> boundary_volumes(const std::vector<Vec3>& positions, KernelKind kernel,
                                    Real support_radius);
 
-// All boundary particles of a scene (boxes and height fields), with volumes.
+// All boundary particles of a scene (boxes and height fields), with volumes. The layer is placed
+// one particle radius behind each declared surface (outside a tank's walls, inside an obstacle,
+// below a terrain), so the declared surfaces are where the fluid ends.
 BoundaryParticles build_boundary(const SceneConfig& scene, KernelKind kernel);
 
 }  // namespace sph

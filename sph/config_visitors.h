@@ -168,6 +168,10 @@ class JsonWriter {
   void field(const char* key, const T& value, const ParamSpec&) {
     out_[key] = to_json(value);
   }
+  template <class T>
+  void field(const char* key, const std::optional<T>& value, const ParamSpec&) {
+    if (value) out_[key] = to_json(*value);  // absent stays absent
+  }
 
   template <class T>
   static nlohmann::json write_struct(const T& value) {

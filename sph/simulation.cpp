@@ -25,32 +25,6 @@ KernelKind kernel_kind(const std::string& name) {
   return KernelKind::kCubicSpline;
 }
 
-std::vector<Vec3> lattice_points(const Vec3& lo, const Vec3& hi, Real spacing) {
-  std::vector<Vec3> points;
-  const Real half = Real(0.5) * spacing;
-  int n[3];
-  for (int k = 0; k < 3; ++k)
-    n[k] = std::max(0, int(std::floor((hi[k] - lo[k]) / spacing + Real(1e-4))));
-  for (int iz = 0; iz < n[2]; ++iz)
-    for (int iy = 0; iy < n[1]; ++iy)
-      for (int ix = 0; ix < n[0]; ++ix)
-        points.emplace_back(lo[0] + half + Real(ix) * spacing, lo[1] + half + Real(iy) * spacing,
-                            lo[2] + half + Real(iz) * spacing);
-  return points;
-}
-
-Real lattice_rest_volume(KernelKind kernel, Real support_radius, Real spacing) {
-  const int reach = int(std::ceil(support_radius / spacing));
-  return with_kernel(kernel, support_radius, [&](const auto& w) {
-    double sum = 0;
-    for (int i = -reach; i <= reach; ++i)
-      for (int j = -reach; j <= reach; ++j)
-        for (int k = -reach; k <= reach; ++k)
-          sum += double(w.value(Vec3(Real(i) * spacing, Real(j) * spacing, Real(k) * spacing)));
-    return Real(1.0 / sum);
-  });
-}
-
 Simulation::Simulation(const SceneConfig& scene) : scene_(scene), kernel_(kernel_kind(scene.kernel)) {
   boundary_ = build_boundary(scene_, kernel_);
   const Real spacing = scene_.particle_diameter();

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "sph/boundary.h"
+#include "sph/lattice.h"
 #include "sph/neighbourhood.h"
 #include "sph/non_pressure_force.h"
 #include "sph/particle_set.h"
@@ -27,14 +28,6 @@ struct FrameStats {
 };
 
 KernelKind kernel_kind(const std::string& name);
-
-// Fluid particle positions filling [lo, hi] on a cubic lattice with spacing `spacing` whose
-// first particle sits half a spacing inside the lower corner.
-std::vector<Vec3> lattice_points(const Vec3& lo, const Vec3& hi, Real spacing);
-
-// Rest volume that gives an interior particle of that lattice exactly the rest density
-// (1 / sum_j W_ij over the lattice), so a block starts at rho = rho0 instead of a few percent off.
-Real lattice_rest_volume(KernelKind kernel, Real support_radius, Real spacing);
 
 class Simulation : private SolverHost {
  public:

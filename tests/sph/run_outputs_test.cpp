@@ -1,0 +1,176 @@
+// `spill-sim run` outputs: the HDF5 data contract, metadata.json and stats.json keys, no clobbering
+// without --force, and no output at all when a run fails.
+
+#include <gtest/gtest.h>
+#include <hdf5.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "sph/config_error.h"
+#include "sph/scene_runner.h"
+
+namespace sph {
+namespace {
+
+namespace fs = std::filesystem;
+
+nlohmann::json small_scene() {
+  return nlohmann::json::parse(R"({
+    "name": "small", "particle_radius": 0.02, "end_time": 0.1,
+    "output": {"frame_dt": 0.02},
+    "boxes": [{"min": [0, 0, 0], "max": [0.4, 0.4, 0.4]}],
+    "fluid_blocks": [{"min": [0, 0, 0], "max": [0.2, 0.2, 0.2]}]})");
+}
+
+fs::path fresh_dir(const std::string& name) {
+  const fs::path dir = fs::temp_directory_path() / name;
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  return dir;
+}
+
+// Shape and HDF5 class/size of a dataset.
+struct DatasetInfo {
+  std::vector<hsize_t> dims;
+  H5T_class_t type_class;
+  size_t type_size;
+};
+
+DatasetInfo inspect(hid_t file, const std::string& path) {
+  hid_t ds = H5Dopen2(file, path.c_str(), H5P_DEFAULT);
+  EXPECT_GE(ds, 0) << path;
+  hid_t space = H5Dget_space(ds);
+  DatasetInfo info;
+  info.dims.resize(size_t(H5Sget_simple_extent_ndims(space)));
+  H5Sget_simple_extent_dims(space, info.dims.data(), nullptr);
+  hid_t type = H5Dget_type(ds);
+  info.type_class = H5Tget_class(type);
+  info.type_size = H5Tget_size(type);
+  H5Tclose(type);
+  H5Sclose(space);
+  H5Dclose(ds);
+  return info;
+}
+
+TEST(RunOutputs, WritesTheDataContract) {
+  const fs::path dir = fresh_dir("spill_run_outputs");
+  RunOptions options;
+  options.out_dir = dir / "run";
+  options.ply = true;
+  const LoadedScene scene = parse_scene(small_scene(), "small.json");
+  run_scene(scene, options);
+
+  const hsize_t n = 125, frames = 6;  // 5^3 particles; t = 0, 0.02, ..., 0.1
+  hid_t file = H5Fopen((options.out_dir / "trajectory.h5").c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  ASSERT_GE(file, 0);
+  auto pos = inspect(file, "00000/position");
+  EXPECT_EQ(pos.dims, (std::vector<hsize_t>{frames, n, 3}));
+  EXPECT_EQ(pos.type_class, H5T_FLOAT);
+  EXPECT_EQ(pos.type_size, 4u);
+  EXPECT_EQ(inspect(file, "00000/velocity").dims, (std::vector<hsize_t>{frames, n, 3}));
+  auto time = inspect(file, "00000/time");
+  EXPECT_EQ(time.dims, (std::vector<hsize_t>{frames}));
+  EXPECT_EQ(time.type_size, 8u);
+  auto type = inspect(file, "00000/particle_type");
+  EXPECT_EQ(type.dims, (std::vector<hsize_t>{n}));
+  EXPECT_EQ(type.type_class, H5T_INTEGER);
+  EXPECT_EQ(type.type_size, 4u);
+  auto active = inspect(file, "00000/active");
+  EXPECT_EQ(active.dims, (std::vector<hsize_t>{frames, n}));
+  EXPECT_EQ(active.type_size, 1u);
+  auto boundary = inspect(file, "00000/boundary_position");
+  EXPECT_EQ(boundary.dims.size(), 2u);
+  EXPECT_EQ(boundary.dims[1], 3u);
+  EXPECT_GT(boundary.dims[0], 100u);
+  // Frame times are the frame grid.
+  std::vector<double> t(frames);
+  hid_t ds = H5Dopen2(file, "00000/time", H5P_DEFAULT);
+  H5Dread(ds, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, t.data());
+  H5Dclose(ds);
+  for (size_t k = 0; k < frames; ++k) EXPECT_NEAR(t[k], 0.02 * double(k), 1e-6);
+  H5Fclose(file);
+
+  nlohmann::json meta;
+  std::ifstream(options.out_dir / "metadata.json") >> meta;
+  for (const char* key : {"frame_dt", "frame_stride", "bounds", "particle_radius",
+                          "support_radius", "gravity", "solver", "scene", "particle_types"})
+    EXPECT_TRUE(meta.contains(key)) << key;
+  EXPECT_EQ(meta["bounds"].size(), 3u);
+  EXPECT_EQ(meta["solver"], "dfsph");
+  EXPECT_EQ(meta["particle_types"]["boundary"], 2);
+
+  nlohmann::json stats;
+  std::ifstream(options.out_dir / "stats.json") >> stats;
+  ASSERT_EQ(stats["frames"].size(), frames);
+  for (const char* key : {"t", "steps", "density_error_avg", "density_error_max",
+                          "iterations_density", "iterations_divergence", "kinetic_energy"})
+    EXPECT_TRUE(stats["frames"][1].contains(key)) << key;
+  for (const char* key : {"wall_s", "steps", "fluid_particles", "particle_steps_per_s"})
+    EXPECT_TRUE(stats["summary"].contains(key)) << key;
+  for (const char* key : {"neighbour_search", "pressure_solve", "other"})
+    EXPECT_TRUE(stats["summary"]["time_split"].contains(key)) << key;
+  EXPECT_GT(stats["frames"][5]["kinetic_energy"].get<double>(), 0);  // the block is falling
+
+  EXPECT_TRUE(fs::exists(options.out_dir / "ply" / "fluid_00005.ply"));
+  EXPECT_TRUE(fs::exists(options.out_dir / "ply" / "boundary.ply"));
+  std::ifstream ply(options.out_dir / "ply" / "fluid_00000.ply");
+  std::string magic;
+  ply >> magic;
+  EXPECT_EQ(magic, "ply");
+
+  // No staging folders are left behind.
+  for (const auto& e : fs::directory_iterator(dir))
+    EXPECT_EQ(e.path().filename(), "run") << "left over: " << e.path();
+  fs::remove_all(dir);
+}
+
+TEST(RunOutputs, ExistingFolderIsNotClobberedWithoutForce) {
+  const fs::path dir = fresh_dir("spill_run_clobber");
+  fs::create_directories(dir / "run");
+  std::ofstream(dir / "run" / "keep.txt") << "precious";
+  RunOptions options;
+  options.out_dir = dir / "run";
+  const LoadedScene scene = parse_scene(small_scene(), "small.json");
+  EXPECT_THROW(run_scene(scene, options), SimulationError);
+  EXPECT_TRUE(fs::exists(dir / "run" / "keep.txt"));
+  options.force = true;
+  run_scene(scene, options);
+  EXPECT_FALSE(fs::exists(dir / "run" / "keep.txt"));
+  EXPECT_TRUE(fs::exists(dir / "run" / "trajectory.h5"));
+  fs::remove_all(dir);
+}
+
+TEST(RunOutputs, ParticleLeavingTheDomainStopsTheRunAndWritesNothing) {
+  const fs::path dir = fresh_dir("spill_run_escape");
+  auto j = small_scene();
+  j["boxes"] = nlohmann::json::array();  // nothing holds the block: it falls out of the domain
+  j["end_time"] = 1.0;
+  RunOptions options;
+  options.out_dir = dir / "run";
+  try {
+    run_scene(parse_scene(j, "escape.json"), options);
+    FAIL() << "expected SimulationError";
+  } catch (const SimulationError& e) {
+    const std::string m = e.what();
+    EXPECT_NE(m.find("left the domain"), std::string::npos) << m;
+    EXPECT_NE(m.find("frame "), std::string::npos) << m;
+    EXPECT_NE(m.find("particle "), std::string::npos) << m;
+  }
+  EXPECT_TRUE(fs::is_empty(dir)) << "no output and no staging folder may remain";
+  fs::remove_all(dir);
+}
+
+TEST(RunOutputs, InterruptedRunWritesNothing) {
+  const fs::path dir = fresh_dir("spill_run_interrupt");
+  std::atomic<bool> stop{true};
+  RunOptions options;
+  options.out_dir = dir / "run";
+  options.stop = &stop;
+  EXPECT_THROW(run_scene(parse_scene(small_scene(), "small.json"), options), RunInterrupted);
+  EXPECT_TRUE(fs::is_empty(dir));
+  fs::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace sph

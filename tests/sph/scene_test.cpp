@@ -1,0 +1,179 @@
+// Scene files: every shipped scene loads; each kind of bad input is a ConfigError that names the
+// file and the JSON pointer; the spill-sim executable turns it into a non-zero exit and writes
+// nothing.
+
+#include "sph/scene.h"
+
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+
+#include "sph/config_error.h"
+
+namespace sph {
+namespace {
+
+namespace fs = std::filesystem;
+const std::string kScenes = std::string(SPILL_SOURCE_DIR) + "/configs/scenes";
+
+nlohmann::json minimal_scene() {
+  return nlohmann::json::parse(R"({
+    "particle_radius": 0.05, "end_time": 0.1,
+    "boxes": [{"min": [0, 0, 0], "max": [1, 1, 1]}],
+    "fluid_blocks": [{"min": [0, 0, 0], "max": [0.5, 0.5, 0.5]}]})");
+}
+
+// Expects parse_scene(j) to fail with a message naming "test.json:<pointer>" and `words`.
+void expect_error(const nlohmann::json& j, const std::string& pointer, const std::string& words) {
+  try {
+    parse_scene(j, "test.json");
+    FAIL() << "expected a ConfigError at " << pointer;
+  } catch (const ConfigError& e) {
+    EXPECT_EQ(e.pointer(), pointer) << e.what();
+    EXPECT_NE(std::string(e.what()).find("test.json:" + pointer + ": "), std::string::npos)
+        << e.what();
+    EXPECT_NE(std::string(e.what()).find(words), std::string::npos) << e.what();
+  }
+}
+
+TEST(Scene, EveryShippedSceneLoads) {
+  int count = 0;
+  for (const auto& entry : fs::directory_iterator(kScenes)) {
+    if (entry.path().extension() != ".json") continue;
+    SCOPED_TRACE(entry.path().string());
+    const LoadedScene s = load_scene(entry.path().string());
+    EXPECT_GT(s.config.particle_radius, 0);
+    EXPECT_FALSE(s.config.fluid_blocks.empty());
+    // The resolved copy reloads to the same resolved copy (nothing lost, nothing invented).
+    EXPECT_EQ(parse_scene(s.resolved, "resolved").resolved, s.resolved);
+    ++count;
+  }
+  EXPECT_GE(count, 3);
+}
+
+TEST(Scene, DamBreakMatchesTheBenchmarkSetUp) {
+  const SceneConfig s = load_scene(kScenes + "/dam_break.json").config;
+  EXPECT_EQ(s.solver, "dfsph");
+  EXPECT_FLOAT_EQ(s.particle_radius, 0.025f);
+  EXPECT_FLOAT_EQ(s.dfsph.density_error_percent, 0.05f);
+  EXPECT_FLOAT_EQ(s.dfsph.divergence_error_percent, 0.1f);
+  EXPECT_FLOAT_EQ(s.time_step.dt_max, 0.005f);
+  EXPECT_FLOAT_EQ(s.end_time, 4.0f);
+  EXPECT_FLOAT_EQ(s.gravity[2], -9.81f);
+}
+
+TEST(Scene, DefaultsAreFilledIn) {
+  const LoadedScene s = parse_scene(minimal_scene(), "test.json");
+  EXPECT_EQ(s.config.solver, "dfsph");
+  EXPECT_EQ(s.resolved["dfsph"]["max_iterations"], 100);
+  EXPECT_EQ(s.resolved["boxes"][0]["fluid_side"], "inside");
+}
+
+TEST(Scene, UnknownKeyIsAnError) {
+  auto j = minimal_scene();
+  j["fluid"] = {{"viscosityy", 0.1}};
+  expect_error(j, "/fluid/viscosityy", "unknown key");
+  j = minimal_scene();
+  j["boxes"][0]["colour"] = "red";
+  expect_error(j, "/boxes/0/colour", "unknown key");
+}
+
+TEST(Scene, WrongTypeIsAnError) {
+  auto j = minimal_scene();
+  j["particle_radius"] = "small";
+  expect_error(j, "/particle_radius", "expected a number, got a string");
+  j = minimal_scene();
+  j["gravity"] = {0, -9.81};
+  expect_error(j, "/gravity", "expected an array of 3 numbers");
+  j = minimal_scene();
+  j["dfsph"] = {{"max_iterations", 2.5}};
+  expect_error(j, "/dfsph/max_iterations", "expected an integer");
+  j = minimal_scene();
+  j["dfsph"] = {{"warm_start", 1}};
+  expect_error(j, "/dfsph/warm_start", "expected true or false");
+}
+
+TEST(Scene, OutOfRangeIsAnError) {
+  auto j = minimal_scene();
+  j["fluid"] = {{"viscosity", -0.1}};
+  expect_error(j, "/fluid/viscosity", "expected >= 0, got -0.1");
+  j = minimal_scene();
+  j["particle_radius"] = 0;
+  expect_error(j, "/particle_radius", "expected > 0, got 0");
+  j = minimal_scene();
+  j["solver"] = "sph9000";
+  expect_error(j, "/solver", "expected one of [dfsph, wcsph]");
+  j = minimal_scene();
+  j["boxes"][0]["max"] = {1, -1, 1};
+  expect_error(j, "/boxes/0/max/1", "expected max > min");
+  j = minimal_scene();
+  j["time_step"] = {{"dt_min", 0.1}, {"dt_max", 0.01}};
+  expect_error(j, "/time_step/dt_min", "expected <= dt_max");
+}
+
+TEST(Scene, MissingRequiredKeyIsAnError) {
+  auto j = minimal_scene();
+  j.erase("particle_radius");
+  expect_error(j, "/particle_radius", "missing required key");
+  j = minimal_scene();
+  j["fluid_blocks"][0].erase("max");
+  expect_error(j, "/fluid_blocks/0/max", "missing required key");
+}
+
+TEST(Scene, SetOverridesAValueBeforeValidation) {
+  const LoadedScene s =
+      load_scene(kScenes + "/dam_break.json", {"/solver=wcsph", "/fluid/viscosity=0.02"});
+  EXPECT_EQ(s.config.solver, "wcsph");
+  EXPECT_FLOAT_EQ(s.config.fluid.viscosity, 0.02f);
+  EXPECT_THROW(load_scene(kScenes + "/dam_break.json", {"/fluid/viscosity=-1"}), ConfigError);
+  EXPECT_THROW(load_scene(kScenes + "/dam_break.json", {"/nonsense=1"}), ConfigError);
+  EXPECT_THROW(load_scene(kScenes + "/dam_break.json", {"solver"}), ConfigError);
+}
+
+TEST(Scene, MissingOrMalformedFileIsAnError) {
+  try {
+    load_scene("/nonexistent/scene.json");
+    FAIL();
+  } catch (const ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("/nonexistent/scene.json"), std::string::npos);
+  }
+  const fs::path bad = fs::temp_directory_path() / "spill_bad_scene.json";
+  std::ofstream(bad) << "{\"particle_radius\": 0.05,";
+  try {
+    load_scene(bad.string());
+    FAIL();
+  } catch (const ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("not valid JSON"), std::string::npos) << e.what();
+  }
+}
+
+TEST(Scene, ExecutableReportsBadSceneAndWritesNothing) {
+  const fs::path dir = fs::temp_directory_path() / "spill_cli_test";
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  auto j = minimal_scene();
+  j["fluid"] = {{"viscosity", -0.1}};
+  std::ofstream(dir / "bad.json") << j.dump();
+  const std::string cmd = std::string(SPILL_SIM_EXE) + " run --scene " + (dir / "bad.json").string() +
+                          " --out " + (dir / "out").string() + " 2> " + (dir / "err.txt").string();
+  const int status = std::system(cmd.c_str());
+  EXPECT_NE(status, 0);
+  std::ifstream err(dir / "err.txt");
+  const std::string message((std::istreambuf_iterator<char>(err)), std::istreambuf_iterator<char>());
+  EXPECT_NE(message.find("bad.json:/fluid/viscosity: expected >= 0, got -0.1"), std::string::npos)
+      << message;
+  EXPECT_FALSE(fs::exists(dir / "out"));
+  fs::remove_all(dir);
+}
+
+TEST(Scene, ReferenceDocumentListsEveryParameter) {
+  const std::string doc = scene_reference_markdown();
+  for (const char* key : {"`/particle_radius`", "`/dfsph/density_error_percent`",
+                          "`/boxes/N/fluid_side`", "`/time_step/cfl`", "`/domain/min`"})
+    EXPECT_NE(doc.find(key), std::string::npos) << key;
+}
+
+}  // namespace
+}  // namespace sph
