@@ -1,5 +1,6 @@
 // spill-sim: runs SPH scenes. A thin front over the sph library (see scene_runner.h).
-//   spill-sim run --scene FILE --out DIR [--set /pointer=value ...] [--threads N] [--ply] [--force]
+//   spill-sim run --scene FILE --out DIR [--set /pointer=value ...] [--threads N] [--ply] [--png]
+//                 [--force]
 //   spill-sim bench [--scene FILE] [--radius R ...] [--threads N] [--set ...]
 //   spill-sim scene-doc
 
@@ -37,13 +38,14 @@ int main(int argc, char** argv) {
   std::string scene_file, out_dir;
   std::vector<std::string> overrides;
   int threads = 0;
-  bool ply = false, force = false;
+  bool ply = false, png = false, force = false;
   auto* run = app.add_subcommand("run", "Simulate a scene and write its run folder");
   run->add_option("--scene", scene_file, "Scene JSON file")->required();
   run->add_option("--out", out_dir, "Output folder (not replaced unless --force)")->required();
   run->add_option("--set", overrides, "Override a scene value: /json/pointer=value");
   run->add_option("--threads", threads, "OpenMP threads (default: all cores)");
   run->add_flag("--ply", ply, "Write a PLY file per frame");
+  run->add_flag("--png", png, "Write side- and top-view PNG pictures per frame");
   run->add_flag("--force", force, "Replace an existing output folder");
 
   std::string bench_scene = "configs/scenes/dam_break.json";
@@ -73,6 +75,7 @@ int main(int argc, char** argv) {
       options.out_dir = out_dir;
       options.force = force;
       options.ply = ply;
+      options.png = png;
       options.threads = thread_count(threads);
       options.stop = &g_stop_requested;
       options.log = &std::cerr;

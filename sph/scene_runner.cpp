@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "sph/config_error.h"
+#include "sph/image_writer.h"
 #include "sph/ply_writer.h"
 #include "sph/progress.h"
 #include "sph/trajectory_writer.h"
@@ -82,10 +83,22 @@ PlyPoints fluid_points(const Simulation& sim) {
   return p;
 }
 
-std::string ply_name(int frame) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "fluid_%05d.ply", frame);
+std::string frame_file(const char* prefix, int frame, const char* extension) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%s_%05d.%s", prefix, frame, extension);
   return buf;
+}
+
+void write_pictures(const Simulation& sim, const FrameRenderer& renderer, const fs::path& dir,
+                    int frame) {
+  const FluidParticles& f = sim.fluid();
+  std::vector<Vec3> fluid(f.position.begin(), f.position.begin() + f.active_count());
+  std::vector<std::int32_t> types;
+  for (Index i = 0; i < f.active_count(); ++i) types.push_back(std::int32_t(f.type[i]));
+  write_png((dir / frame_file("side", frame, "png")).string(),
+            renderer.render(fluid, types, ViewAxis::kSide));
+  write_png((dir / frame_file("top", frame, "png")).string(),
+            renderer.render(fluid, types, ViewAxis::kTop));
 }
 
 // Removes the staging folder unless the run succeeded and renamed it.
@@ -159,6 +172,7 @@ nlohmann::json run_scene(const LoadedScene& scene, const RunOptions& options) {
   fs::remove_all(staging.path);
   fs::create_directories(staging.path);
   if (options.ply) fs::create_directories(staging.path / "ply");
+  if (options.png) fs::create_directories(staging.path / "png");
 
   Simulation sim(scene.config);
   const int frames = frame_count(scene.config);
@@ -169,11 +183,18 @@ nlohmann::json run_scene(const LoadedScene& scene, const RunOptions& options) {
     types[sim.fluid().id[i]] = std::int32_t(sim.fluid().type[i]);
   TrajectoryWriter writer((staging.path / "trajectory.h5").string(), "00000", types,
                           sim.boundary().position);
+  std::unique_ptr<FrameRenderer> renderer;
+  if (options.png)
+    renderer = std::make_unique<FrameRenderer>(sim.boundary().position, sim.domain(),
+                                               scene.config.particle_radius);
   auto record = [&](int frame) {
     std::vector<std::uint8_t> active(sim.fluid().size(), 0);
     for (Index i = 0; i < sim.fluid().active_count(); ++i) active[sim.fluid().id[i]] = 1;
     writer.append(sim.time(), sim.positions_by_id(), sim.velocities_by_id(), active);
-    if (options.ply) write_ply((staging.path / "ply" / ply_name(frame)).string(), fluid_points(sim));
+    if (options.ply)
+      write_ply((staging.path / "ply" / frame_file("fluid", frame, "ply")).string(),
+                fluid_points(sim));
+    if (renderer) write_pictures(sim, *renderer, staging.path / "png", frame);
   };
   if (options.ply) {
     PlyPoints b;

@@ -1,0 +1,32 @@
+#!/usr/bin/env bash
+# Installs the Debian packages the project needs (only those missing), then configures and builds
+# it in build/ (Release). Idempotent: a second run only rebuilds what changed.
+#   bash scripts/setup.sh            # packages + build
+#   SPILL_SKIP_APT=1 bash scripts/setup.sh   # build only
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+packages=(
+  build-essential cmake pkg-config
+  libeigen3-dev libhdf5-dev nlohmann-json3-dev libgtest-dev libcli11-dev libpng-dev
+  libtorch-dev libopenblas0-pthread libgoogle-perftools-dev
+)
+
+if [ "${SPILL_SKIP_APT:-0}" != "1" ]; then
+  missing=()
+  for p in "${packages[@]}"; do
+    dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+  done
+  if [ ${#missing[@]} -gt 0 ]; then
+    echo "setup: installing ${missing[*]}"
+    sudo_cmd=""
+    [ "$(id -u)" -ne 0 ] && sudo_cmd="sudo"
+    $sudo_cmd apt-get update -qq
+    DEBIAN_FRONTEND=noninteractive $sudo_cmd apt-get install -y -qq --no-install-recommends "${missing[@]}"
+  fi
+fi
+
+jobs=$(nproc 2>/dev/null || echo 2)
+cmake -S . -B build -DCMAKE_BUILD_TYPE=Release ${SPILL_CMAKE_ARGS:-} > build.log 2>&1 || { cat build.log; exit 1; }
+cmake --build build -j "$jobs" >> build.log 2>&1 || { tail -n 60 build.log; exit 1; }
+echo "setup: built build/sph/spill-sim (log: build.log)"
