@@ -90,8 +90,8 @@ class JsonReader {
       fail(ptr, std::string("expected ") + (s.min_exclusive ? "> " : ">= ") +
                     detail::format_number(s.min) + ", got " + detail::format_number(v));
     if (v > s.max)
-      fail(ptr, "expected <= " + detail::format_number(s.max) + ", got " +
-                    detail::format_number(v));
+      fail(ptr,
+           "expected <= " + detail::format_number(s.max) + ", got " + detail::format_number(v));
   }
 
   void read(const nlohmann::json& j, const std::string& ptr, double& v, const ParamSpec& s) const {
@@ -232,8 +232,8 @@ class DocTable {
       rows_ += "| `" + ptr + "` | object | absent | | " + spec.description + " |\n" + sub.rows_;
     } else {
       rows_ += "| `" + ptr + "` | " + spec.unit + " | " +
-               (spec.required ? std::string("required") : "`" + default_text(value) + "`") +
-               " | " + range_text(spec) + " | " + spec.description + " |\n";
+               (spec.required ? std::string("required") : "`" + default_text(value) + "`") + " | " +
+               range_text(spec) + " | " + spec.description + " |\n";
     }
   }
 
@@ -262,8 +262,7 @@ class DocTable {
       for (const auto& c : s.choices) r += (r.empty() ? "" : ", ") + c;
       return r;
     }
-    if (std::isfinite(s.min))
-      r += (s.min_exclusive ? "> " : ">= ") + detail::format_number(s.min);
+    if (std::isfinite(s.min)) r += (s.min_exclusive ? "> " : ">= ") + detail::format_number(s.min);
     if (std::isfinite(s.max)) r += (r.empty() ? "" : ", ") + ("<= " + detail::format_number(s.max));
     return r;
   }

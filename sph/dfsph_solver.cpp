@@ -43,7 +43,7 @@ void DfsphSolver::compute_factors(const FluidParticles& fluid, const ParticleNei
   const long n = long(fluid.active_count());
   const Real h = nb.support_radius();
   const Real tiny = Real(1e-6) / (h * h);
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(dynamic, 64)
   for (long li = 0; li < n; ++li) {
     const Index i = Index(li);
     Vec3 grad_sum = nb.boundary_gradient_sum[i];
@@ -62,7 +62,7 @@ void DfsphSolver::apply_stiffness(FluidParticles& fluid, const ParticleNeighbour
                                   const std::vector<Real>& s, Real dt) const {
   const long n = long(fluid.active_count());
   const Real inv_dt = Real(1) / dt;
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(dynamic, 64)
   for (long li = 0; li < n; ++li) {
     const Index i = Index(li);
     const Real si = s[i];
@@ -89,7 +89,7 @@ int DfsphSolver::solve_divergence(FluidParticles& fluid, const ParticleNeighbour
   int iterations = 0;
   while (true) {
     double error_sum = 0;
-#pragma omp parallel for schedule(static) reduction(+ : error_sum)
+#pragma omp parallel for schedule(dynamic, 64) reduction(+ : error_sum)
     for (long li = 0; li < n; ++li) {
       const Index i = Index(li);
       Real rate = 0;
@@ -99,7 +99,7 @@ int DfsphSolver::solve_divergence(FluidParticles& fluid, const ParticleNeighbour
       error_sum += double(rate) * dt;
     }
     const double error_avg = error_sum / double(n);
-    if ((error_avg <= eta && iterations >= config_.min_iterations) ||
+    if ((error_avg <= eta && iterations >= config_.min_iterations_divergence) ||
         iterations >= config_.max_iterations)
       break;
     apply_stiffness(fluid, nb, s_, dt);
@@ -125,7 +125,7 @@ int DfsphSolver::solve_density(FluidParticles& fluid, const ParticleNeighbourhoo
   while (true) {
     double error_sum = 0;
     Real error_max = 0;
-#pragma omp parallel for schedule(static) reduction(+ : error_sum) reduction(max : error_max)
+#pragma omp parallel for schedule(dynamic, 64) reduction(+ : error_sum) reduction(max : error_max)
     for (long li = 0; li < n; ++li) {
       const Index i = Index(li);
       const Real predicted = fluid.density[i] + dt * density_rate(i, fluid, nb);
@@ -136,7 +136,7 @@ int DfsphSolver::solve_density(FluidParticles& fluid, const ParticleNeighbourhoo
     }
     stats.density_error_avg = error_sum / double(n);
     stats.density_error_max = double(error_max);
-    if ((stats.density_error_avg <= eta && iterations >= config_.min_iterations) ||
+    if ((stats.density_error_avg <= eta && iterations >= config_.min_iterations_density) ||
         iterations >= config_.max_iterations)
       break;
     apply_stiffness(fluid, nb, s_, dt);
@@ -168,7 +168,7 @@ void DfsphSolver::step(SolverHost& host, StepStats& stats) {
 
   const Real dt = host.choose_time_step(std::numeric_limits<Real>::infinity());
   host.compute_non_pressure_accelerations(dt);
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(dynamic, 64)
   for (long i = 0; i < n; ++i) fluid.velocity[size_t(i)] += dt * fluid.acceleration[size_t(i)];
 
   t0 = std::chrono::steady_clock::now();
@@ -177,7 +177,7 @@ void DfsphSolver::step(SolverHost& host, StepStats& stats) {
 
   // Pressure for output: p = rho0 (rho/rho0)^2 kappa with kappa = s / dt^2 of each solve.
   const Real inv_dt2 = Real(1) / (dt * dt), inv_dt2_div = Real(1) / (last_dt_ * last_dt_);
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(dynamic, 64)
   for (long li = 0; li < n; ++li) {
     const size_t i = size_t(li);
     fluid.position[i] += dt * fluid.velocity[i];

@@ -9,7 +9,8 @@ std::vector<std::unique_ptr<NonPressureForce>> make_non_pressure_forces(const Sc
   std::vector<std::unique_ptr<NonPressureForce>> forces;
   forces.push_back(std::make_unique<GravityForce>(scene.gravity));
   if (scene.fluid.viscosity > 0 || scene.boundary.friction > 0)
-    forces.push_back(std::make_unique<ViscosityForce>(scene.fluid.viscosity, scene.boundary.friction));
+    forces.push_back(
+        std::make_unique<ViscosityForce>(scene.fluid.viscosity, scene.boundary.friction));
   if (scene.fluid.xsph > 0) forces.push_back(std::make_unique<XsphForce>(scene.fluid.xsph));
   return forces;
 }

@@ -3,9 +3,9 @@
 #include <png.h>
 
 #include <algorithm>
+#include <cmath>
 #include <csetjmp>
 #include <cstdio>
-#include <cmath>
 #include <numeric>
 
 #include "sph/config_error.h"
@@ -31,8 +31,10 @@ void view_axes(ViewAxis axis, int& h, int& v, int& d) {
 }
 
 void draw_disc(RgbImage& img, float cx, float cy, float radius, const Colour& c) {
-  const int x0 = std::max(0, int(std::floor(cx - radius))), x1 = std::min(img.width - 1, int(std::ceil(cx + radius)));
-  const int y0 = std::max(0, int(std::floor(cy - radius))), y1 = std::min(img.height - 1, int(std::ceil(cy + radius)));
+  const int x0 = std::max(0, int(std::floor(cx - radius))),
+            x1 = std::min(img.width - 1, int(std::ceil(cx + radius)));
+  const int y0 = std::max(0, int(std::floor(cy - radius))),
+            y1 = std::min(img.height - 1, int(std::ceil(cy + radius)));
   const float r2 = radius * radius;
   for (int y = y0; y <= y1; ++y)
     for (int x = x0; x <= x1; ++x) {
@@ -44,7 +46,6 @@ void draw_disc(RgbImage& img, float cx, float cy, float radius, const Colour& c)
       p[2] = std::uint8_t(std::clamp(c.b, 0.f, 255.f));
     }
 }
-
 
 // Draws points far-to-near as shaded discs.
 template <class ColourOf>
@@ -123,8 +124,9 @@ void write_png(const std::string& file, const RgbImage& image) {
   png_init_io(png, out);
   png_set_compression_level(png, 1);
   png_set_filter(png, PNG_FILTER_TYPE_BASE, PNG_FILTER_NONE);
-  png_set_IHDR(png, info, png_uint_32(image.width), png_uint_32(image.height), 8, PNG_COLOR_TYPE_RGB,
-               PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
+  png_set_IHDR(png, info, png_uint_32(image.width), png_uint_32(image.height), 8,
+               PNG_COLOR_TYPE_RGB, PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT,
+               PNG_FILTER_TYPE_DEFAULT);
   png_write_info(png, info);
   for (int y = 0; y < image.height; ++y)
     png_write_row(png, image.pixels.data() + size_t(3 * y * image.width));

@@ -34,17 +34,33 @@ class CubicSplineKernel {
 
   // Gradient with respect to x_i of W(x_i - x_j), given r = x_i - x_j.
   Vec3 gradient(const Vec3& r) const {
+    Vec3 g;
+    value_and_gradient(r, g);
+    return g;
+  }
+
+  // W(r) and its gradient with one square root (the neighbourhood evaluates both for each pair).
+  Real value_and_gradient(const Vec3& r, Vec3& gradient) const {
     const Real rl = r.norm();
     const Real q = rl * inv_h_;
-    if (q >= Real(1) || rl <= Real(1e-9) * h_) return Vec3::Zero();
-    Real dw_dq;
+    if (q >= Real(1)) {
+      gradient.setZero();
+      return Real(0);
+    }
+    Real w, dw_dq;
     if (q <= Real(0.5)) {
+      w = k_ * (Real(6) * q * q * q - Real(6) * q * q + Real(1));
       dw_dq = l_ * q * (Real(3) * q - Real(2));
     } else {
       const Real s = Real(1) - q;
+      w = k_ * Real(2) * s * s * s;
       dw_dq = -l_ * s * s;
     }
-    return (dw_dq * inv_h_ / rl) * r;
+    if (rl <= Real(1e-9) * h_)
+      gradient.setZero();
+    else
+      gradient = (dw_dq * inv_h_ / rl) * r;
+    return w;
   }
 
  private:
@@ -70,12 +86,25 @@ class WendlandC2Kernel {
   Real value(const Vec3& r) const { return value(r.norm()); }
 
   Vec3 gradient(const Vec3& r) const {
+    Vec3 g;
+    value_and_gradient(r, g);
+    return g;
+  }
+
+  Real value_and_gradient(const Vec3& r, Vec3& gradient) const {
     const Real rl = r.norm();
     const Real q = rl * inv_h_;
-    if (q >= Real(1) || rl <= Real(1e-9) * h_) return Vec3::Zero();
+    if (q >= Real(1)) {
+      gradient.setZero();
+      return Real(0);
+    }
     const Real s = Real(1) - q;
-    const Real dw_dq = -Real(20) * k_ * q * s * s * s;
-    return (dw_dq * inv_h_ / rl) * r;
+    const Real s3 = s * s * s;
+    if (rl <= Real(1e-9) * h_)
+      gradient.setZero();
+    else
+      gradient = (-Real(20) * k_ * q * s3 * inv_h_ / rl) * r;
+    return k_ * s3 * s * (Real(1) + Real(4) * q);
   }
 
  private:

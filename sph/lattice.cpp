@@ -45,11 +45,14 @@ Real boundary_layer_offset(KernelKind kernel, Real support_radius, Real spacing)
     };
     const double boundary_volume = 1.0 / plane_sum(0);
     double fluid = 0;  // first-layer particle: its own half-space of fluid layers
-    for (int layer = 0; layer <= reach; ++layer) fluid += volume * plane_sum(layer * double(spacing));
+    for (int layer = 0; layer <= reach; ++layer)
+      fluid += volume * plane_sum(layer * double(spacing));
     const double half = 0.5 * double(spacing);
     // Density of the first layer with the boundary plane `offset` behind the surface; it falls
     // with the offset, so bisect for 1.
-    auto density = [&](double offset) { return fluid + boundary_volume * plane_sum(half + offset); };
+    auto density = [&](double offset) {
+      return fluid + boundary_volume * plane_sum(half + offset);
+    };
     double lo = 0, hi = double(support_radius);
     if (density(lo) <= 1) return Real(0);
     for (int it = 0; it < 60; ++it) {

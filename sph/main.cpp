@@ -21,7 +21,9 @@ namespace {
 // Signal handlers can only reach static storage; this flag is read by the run loop, which then
 // removes its staging folder and exits.
 std::atomic<bool> g_stop_requested{false};
-void request_stop(int) { g_stop_requested.store(true); }
+void request_stop(int) {
+  g_stop_requested.store(true);
+}
 
 int thread_count(int requested) {
   const int n = requested > 0 ? requested : omp_get_num_procs();

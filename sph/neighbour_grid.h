@@ -2,8 +2,8 @@
 // Fixed-radius neighbour search on a uniform grid (cell size = search radius) over a bounded
 // domain. Points are sorted into cells by a counting sort; a query scans the 3 x 3 x 3 block of
 // cells around it, where the three cells of each x-row are one contiguous range of the sorted
-// order. Results are CSR lists (offsets, indices), filled in parallel with OpenMP: each thread
-// collects the neighbours of a contiguous range of queries, then the pieces are concatenated.
+// order. Results are CSR lists (offsets, indices), filled in parallel with OpenMP: chunks of
+// queries collect their neighbours separately, then the pieces are concatenated in order.
 
 #include <cstdint>
 #include <stdexcept>
@@ -72,29 +72,39 @@ class NeighbourGrid {
 
   Aabb domain_;
   Real radius_ = 0;
+  Real cell_ = 0;
   Real inv_cell_ = 0;
   std::int64_t nx_ = 0, ny_ = 0, nz_ = 0;
-  std::vector<Index> cell_start_;    // [cells + 1]
-  std::vector<Index> sorted_index_;  // built points by cell
-  std::vector<Vec3> sorted_point_;   // their positions, for cache-friendly scans
-  std::vector<Index> point_cell_;    // scratch: cell of each built point
-  std::vector<std::vector<Index>> thread_buffers_;
+  std::vector<Index> cell_start_;                     // [cells + 1]
+  std::vector<Index> sorted_index_;                   // built points by cell
+  std::vector<Real> sorted_x_, sorted_y_, sorted_z_;  // their coordinates, for contiguous scans
+  std::vector<Index> point_cell_;                     // scratch: cell of each built point
+  std::vector<std::vector<Index>> chunk_buffers_;     // reused across calls
+  std::vector<size_t> chunk_used_;
 };
 
 template <class F>
 void NeighbourGrid::for_each_near(const Vec3& x, F&& f) const {
   const Real r2 = radius_ * radius_;
   const Vec3 rel = (x - domain_.min) * inv_cell_;
-  const std::int64_t cx = std::min<std::int64_t>(std::max<std::int64_t>(std::int64_t(rel[0]), 0), nx_ - 1);
-  const std::int64_t cy = std::min<std::int64_t>(std::max<std::int64_t>(std::int64_t(rel[1]), 0), ny_ - 1);
-  const std::int64_t cz = std::min<std::int64_t>(std::max<std::int64_t>(std::int64_t(rel[2]), 0), nz_ - 1);
-  const std::int64_t x0 = std::max<std::int64_t>(cx - 1, 0), x1 = std::min<std::int64_t>(cx + 1, nx_ - 1);
-  for (std::int64_t z = std::max<std::int64_t>(cz - 1, 0); z <= std::min<std::int64_t>(cz + 1, nz_ - 1); ++z)
-    for (std::int64_t y = std::max<std::int64_t>(cy - 1, 0); y <= std::min<std::int64_t>(cy + 1, ny_ - 1); ++y) {
+  const std::int64_t cx =
+      std::min<std::int64_t>(std::max<std::int64_t>(std::int64_t(rel[0]), 0), nx_ - 1);
+  const std::int64_t cy =
+      std::min<std::int64_t>(std::max<std::int64_t>(std::int64_t(rel[1]), 0), ny_ - 1);
+  const std::int64_t cz =
+      std::min<std::int64_t>(std::max<std::int64_t>(std::int64_t(rel[2]), 0), nz_ - 1);
+  const std::int64_t x0 = std::max<std::int64_t>(cx - 1, 0),
+                     x1 = std::min<std::int64_t>(cx + 1, nx_ - 1);
+  for (std::int64_t z = std::max<std::int64_t>(cz - 1, 0);
+       z <= std::min<std::int64_t>(cz + 1, nz_ - 1); ++z)
+    for (std::int64_t y = std::max<std::int64_t>(cy - 1, 0);
+         y <= std::min<std::int64_t>(cy + 1, ny_ - 1); ++y) {
       const std::int64_t row = (z * ny_ + y) * nx_;
       const Index begin = cell_start_[row + x0], end = cell_start_[row + x1 + 1];
-      for (Index k = begin; k < end; ++k)
-        if ((sorted_point_[k] - x).squaredNorm() < r2) f(sorted_index_[k]);
+      for (Index k = begin; k < end; ++k) {
+        const Real dx = sorted_x_[k] - x[0], dy = sorted_y_[k] - x[1], dz = sorted_z_[k] - x[2];
+        if (dx * dx + dy * dy + dz * dz < r2) f(sorted_index_[k]);
+      }
     }
 }
 

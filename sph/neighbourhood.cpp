@@ -31,25 +31,27 @@ void ParticleNeighbourhood::update(FluidParticles& fluid, const BoundaryParticle
     const Real* volume_b = boundary_volume_.data();
     PairTable& ff = this->fluid;
     PairTable& fb = this->boundary;
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(dynamic, 64)
     for (long li = 0; li < long(n); ++li) {
       const Index i = Index(li);
       Real density = volume[i] * w_zero_;
       for (Index k = ff.lists.offsets[i]; k < ff.lists.offsets[i + 1]; ++k) {
         const Index j = ff.lists.indices[k];
         const Vec3 r = x[i] - x[j];
-        const Real wij = w.value(r);
+        Vec3 grad;
+        const Real wij = w.value_and_gradient(r, grad);
         ff.value[k] = wij;
-        ff.gradient[k] = volume[j] * w.gradient(r);
+        ff.gradient[k] = volume[j] * grad;
         density += volume[j] * wij;
       }
       Vec3 grad_sum = Vec3::Zero();
       for (Index k = fb.lists.offsets[i]; k < fb.lists.offsets[i + 1]; ++k) {
         const Index b = fb.lists.indices[k];
         const Vec3 r = x[i] - xb[b];
-        const Real wib = w.value(r);
+        Vec3 grad;
+        const Real wib = w.value_and_gradient(r, grad);
         fb.value[k] = wib;
-        fb.gradient[k] = volume_b[b] * w.gradient(r);
+        fb.gradient[k] = volume_b[b] * grad;
         grad_sum += fb.gradient[k];
         density += volume_b[b] * wib;
       }

@@ -35,7 +35,8 @@ struct FluidParticles {
 
 // Applies a permutation to one per-particle array: out[k] = in[order[k]] for k < order.size().
 template <class T>
-void permute_array(std::vector<T>& values, const std::vector<Index>& order, std::vector<T>& scratch) {
+void permute_array(std::vector<T>& values, const std::vector<Index>& order,
+                   std::vector<T>& scratch) {
   scratch.assign(values.begin(), values.end());
   for (size_t k = 0; k < order.size(); ++k) values[k] = scratch[order[k]];
 }

@@ -12,9 +12,9 @@ namespace sph {
 
 struct PlyPoints {
   std::vector<Vec3> position;
-  std::vector<Vec3> velocity;        // empty: written as zero
+  std::vector<Vec3> velocity;  // empty: written as zero
   std::vector<std::int32_t> type;
-  std::vector<Real> pressure;        // empty: written as zero
+  std::vector<Real> pressure;  // empty: written as zero
 };
 
 // Throws SimulationError naming the file when it cannot be written.

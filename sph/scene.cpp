@@ -24,8 +24,11 @@ void check_consistency(const SceneConfig& s, const std::string& file) {
     throw ConfigError(file, "/time_step/dt_min",
                       "expected <= dt_max (" + std::to_string(s.time_step.dt_max) + "), got " +
                           std::to_string(s.time_step.dt_min));
-  if (s.dfsph.min_iterations > s.dfsph.max_iterations)
-    throw ConfigError(file, "/dfsph/min_iterations", "expected <= /dfsph/max_iterations");
+  if (s.dfsph.min_iterations_density > s.dfsph.max_iterations)
+    throw ConfigError(file, "/dfsph/min_iterations_density", "expected <= /dfsph/max_iterations");
+  if (s.dfsph.min_iterations_divergence > s.dfsph.max_iterations)
+    throw ConfigError(file, "/dfsph/min_iterations_divergence",
+                      "expected <= /dfsph/max_iterations");
   if (s.output.frame_dt > s.end_time)
     throw ConfigError(file, "/output/frame_dt", "expected <= /end_time");
   for (size_t i = 0; i < s.boxes.size(); ++i)

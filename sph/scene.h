@@ -21,9 +21,10 @@ struct TimeStepConfig {
   Real dt_max = Real(0.005);
   template <class V>
   void describe(V& v) {
-    v.field("cfl", cfl, param("", "CFL number lambda in dt = lambda * 0.4 * diameter / |v|max")
-                            .positive()
-                            .at_most(10));
+    v.field("cfl", cfl,
+            param("", "CFL number lambda in dt = lambda * 0.4 * diameter / |v|max")
+                .positive()
+                .at_most(10));
     v.field("dt_min", dt_min, param("s", "Smallest time step").positive());
     v.field("dt_max", dt_max, param("s", "Largest time step").positive());
   }
@@ -32,7 +33,8 @@ struct TimeStepConfig {
 struct DfsphConfig {
   Real density_error_percent = Real(0.05);
   Real divergence_error_percent = Real(0.1);
-  int min_iterations = 2;
+  int min_iterations_density = 2;
+  int min_iterations_divergence = 1;
   int max_iterations = 100;
   bool warm_start = true;
   bool divergence_solver = true;
@@ -43,12 +45,15 @@ struct DfsphConfig {
                 .positive()
                 .at_most(10));
     v.field("divergence_error_percent", divergence_error_percent,
-            param("%", "Stop the divergence-free solve when the mean density change per step is "
-                       "below this")
+            param("%",
+                  "Stop the divergence-free solve when the mean density change per step is "
+                  "below this")
                 .positive()
                 .at_most(10));
-    v.field("min_iterations", min_iterations,
-            param("", "Fewest iterations of each solve").at_least(0).at_most(1000));
+    v.field("min_iterations_density", min_iterations_density,
+            param("", "Fewest iterations of the constant-density solve").at_least(0).at_most(1000));
+    v.field("min_iterations_divergence", min_iterations_divergence,
+            param("", "Fewest iterations of the divergence-free solve").at_least(0).at_most(1000));
     v.field("max_iterations", max_iterations,
             param("", "Most iterations of each solve").at_least(1).at_most(10000));
     v.field("warm_start", warm_start,
@@ -69,8 +74,9 @@ struct WcsphConfig {
     v.field("expected_max_velocity", expected_max_velocity,
             param("m/s", "Largest flow speed expected; sets the speed of sound").positive());
     v.field("sound_speed_factor", sound_speed_factor,
-            param("", "Speed of sound = this x expected_max_velocity (10 keeps density "
-                      "fluctuations near 1 %)")
+            param("",
+                  "Speed of sound = this x expected_max_velocity (10 keeps density "
+                  "fluctuations near 1 %)")
                 .at_least(1));
   }
 };
@@ -82,10 +88,11 @@ struct FluidMaterialConfig {
   template <class V>
   void describe(V& v) {
     v.field("density", density, param("kg/m^3", "Rest density").positive());
-    v.field("viscosity", viscosity,
-            param("m^2/s", "Kinematic viscosity of the SPH Laplacian viscosity force")
-                .non_negative());
-    v.field("xsph", xsph, param("", "XSPH velocity smoothing coefficient").non_negative().at_most(1));
+    v.field(
+        "viscosity", viscosity,
+        param("m^2/s", "Kinematic viscosity of the SPH Laplacian viscosity force").non_negative());
+    v.field("xsph", xsph,
+            param("", "XSPH velocity smoothing coefficient").non_negative().at_most(1));
   }
 };
 
@@ -211,12 +218,15 @@ struct SceneConfig {
     v.field("wcsph", wcsph, param("", "WCSPH solver settings"));
     v.field("output", output, param("", "Recording"));
     v.field("boxes", boxes, param("", "Boxes sampled with boundary particles"));
-    v.field("height_fields", height_fields, param("", "Terrain surfaces sampled with boundary "
-                                                      "particles"));
+    v.field("height_fields", height_fields,
+            param("",
+                  "Terrain surfaces sampled with boundary "
+                  "particles"));
     v.field("fluid_blocks", fluid_blocks, param("", "Blocks filled with fluid particles"));
     v.field("domain", domain,
-            param("", "Simulation domain; particles leaving it stop the run (default: the "
-                      "bounding box of boundary and fluid, grown by one support radius)"));
+            param("",
+                  "Simulation domain; particles leaving it stop the run (default: the "
+                  "bounding box of boundary and fluid, grown by one support radius)"));
   }
 };
 

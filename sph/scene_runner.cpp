@@ -24,7 +24,9 @@ int frame_count(const SceneConfig& s) {
   return int(std::llround(double(s.end_time) / double(s.output.frame_dt)));
 }
 
-nlohmann::json vec_json(const Vec3& v) { return {double(v[0]), double(v[1]), double(v[2])}; }
+nlohmann::json vec_json(const Vec3& v) {
+  return {double(v[0]), double(v[1]), double(v[2])};
+}
 
 void write_json(const fs::path& file, const nlohmann::json& j) {
   std::ofstream out(file);
@@ -135,7 +137,8 @@ nlohmann::json machine_description(int threads) {
 nlohmann::json run_metadata(const Simulation& sim, const LoadedScene& scene, int frames) {
   const SceneConfig& s = scene.config;
   const Aabb& d = sim.domain();
-  const double stride = std::max(1.0, std::round(double(s.output.frame_dt) / double(s.time_step.dt_max)));
+  const double stride =
+      std::max(1.0, std::round(double(s.output.frame_dt) / double(s.time_step.dt_max)));
   return {{"dim", 3},
           {"frame_dt", double(s.output.frame_dt)},
           {"dt", double(s.output.frame_dt)},
@@ -167,8 +170,8 @@ nlohmann::json run_scene(const LoadedScene& scene, const RunOptions& options) {
     throw SimulationError(out.string() + ": already exists (use --force to replace it)");
   const fs::path parent = out.parent_path().empty() ? fs::path(".") : out.parent_path();
   fs::create_directories(parent);
-  StagingGuard staging{parent / ("." + out.filename().string() + ".partial-" +
-                                 std::to_string(long(getpid())))};
+  StagingGuard staging{
+      parent / ("." + out.filename().string() + ".partial-" + std::to_string(long(getpid())))};
   fs::remove_all(staging.path);
   fs::create_directories(staging.path);
   if (options.ply) fs::create_directories(staging.path / "ply");
@@ -213,14 +216,16 @@ nlohmann::json run_scene(const LoadedScene& scene, const RunOptions& options) {
   for (int frame = 1; frame <= frames; ++frame) {
     if (options.stop && options.stop->load())
       throw RunInterrupted("interrupted at frame " + std::to_string(frame) + "; nothing written");
-    const FrameStats f = sim.advance_to(double(frame) * double(scene.config.output.frame_dt), frame);
+    const FrameStats f =
+        sim.advance_to(double(frame) * double(scene.config.output.frame_dt), frame);
     it_density += f.iterations_density * f.steps;
     it_divergence += f.iterations_divergence * f.steps;
     frame_list.push_back(frame_json(sim, f));
     record(frame);
     if (options.log) progress.update(frame, frame_detail(sim, f));
   }
-  const double wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  const double wall_s =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   writer.close();
   const double steps = double(std::max(1L, sim.steps()));
   nlohmann::json summary =
@@ -241,12 +246,14 @@ nlohmann::json benchmark_scene(const LoadedScene& scene, int threads, std::ostre
   double it_density = 0, it_divergence = 0;
   const auto t0 = std::chrono::steady_clock::now();
   for (int frame = 1; frame <= frames; ++frame) {
-    const FrameStats f = sim.advance_to(double(frame) * double(scene.config.output.frame_dt), frame);
+    const FrameStats f =
+        sim.advance_to(double(frame) * double(scene.config.output.frame_dt), frame);
     it_density += f.iterations_density * f.steps;
     it_divergence += f.iterations_divergence * f.steps;
     if (log) progress.update(frame, frame_detail(sim, f));
   }
-  const double wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  const double wall_s =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   const double steps = double(std::max(1L, sim.steps()));
   nlohmann::json j = summary_json(sim, wall_s, it_density / steps, it_divergence / steps, threads);
   j["scene"] = scene.config.name;

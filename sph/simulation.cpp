@@ -25,7 +25,8 @@ KernelKind kernel_kind(const std::string& name) {
   return KernelKind::kCubicSpline;
 }
 
-Simulation::Simulation(const SceneConfig& scene) : scene_(scene), kernel_(kernel_kind(scene.kernel)) {
+Simulation::Simulation(const SceneConfig& scene)
+    : scene_(scene), kernel_(kernel_kind(scene.kernel)) {
   boundary_ = build_boundary(scene_, kernel_);
   const Real spacing = scene_.particle_diameter();
   const Real volume = lattice_rest_volume(kernel_, scene_.support_radius(), spacing);
@@ -49,8 +50,8 @@ Simulation::Simulation(const SceneConfig& scene) : scene_(scene), kernel_(kernel
     domain_.min.array() -= scene_.support_radius();
     domain_.max.array() += scene_.support_radius();
   }
-  neighbourhood_ = std::make_unique<ParticleNeighbourhood>(domain_, kernel_, scene_.support_radius(),
-                                                           boundary_);
+  neighbourhood_ =
+      std::make_unique<ParticleNeighbourhood>(domain_, kernel_, scene_.support_radius(), boundary_);
   solver_ = make_pressure_solver(scene_);
   forces_ = make_non_pressure_forces(scene_);
   for (Index i = 0; i < fluid_.size(); ++i)
@@ -65,11 +66,11 @@ void Simulation::update_neighbourhood() {
     neighbourhood_->update(fluid_, boundary_);
   } catch (const PointOutsideDomain& e) {
     const Index i = e.index();
-    throw SimulationError("frame " + std::to_string(current_frame_) + " (t = " +
-                          std::to_string(time_) + " s): particle " + std::to_string(fluid_.id[i]) +
-                          " left the domain [" + format_vec(domain_.min) + ", " +
-                          format_vec(domain_.max) + "] at " + format_vec(fluid_.position[i]) +
-                          " with velocity " + format_vec(fluid_.velocity[i]));
+    throw SimulationError(
+        "frame " + std::to_string(current_frame_) + " (t = " + std::to_string(time_) +
+        " s): particle " + std::to_string(fluid_.id[i]) + " left the domain [" +
+        format_vec(domain_.min) + ", " + format_vec(domain_.max) + "] at " +
+        format_vec(fluid_.position[i]) + " with velocity " + format_vec(fluid_.velocity[i]));
   }
   time_split_.neighbour_search += seconds_since(t0);
 }

@@ -8,7 +8,9 @@
 
 namespace sph {
 
-std::vector<std::string> pressure_solver_names() { return {"dfsph", "wcsph"}; }
+std::vector<std::string> pressure_solver_names() {
+  return {"dfsph", "wcsph"};
+}
 
 std::unique_ptr<PressureSolver> make_pressure_solver(const SceneConfig& scene) {
   if (scene.solver == "dfsph")

@@ -110,8 +110,7 @@ void TrajectoryWriter::append_rows(std::int64_t dataset, int rank,
 void TrajectoryWriter::append(double time, const std::vector<Vec3>& position,
                               const std::vector<Vec3>& velocity,
                               const std::vector<std::uint8_t>& active) {
-  if (position.size() != particles_ || velocity.size() != particles_ ||
-      active.size() != particles_)
+  if (position.size() != particles_ || velocity.size() != particles_ || active.size() != particles_)
     throw SimulationError(file_ + ": frame has the wrong particle count");
   buffer_.resize(particles_ * 3);
   auto write_vectors = [&](std::int64_t ds, const std::vector<Vec3>& v) {

@@ -35,8 +35,8 @@ class TrajectoryWriter {
   std::int64_t frames() const { return frames_; }
 
  private:
-  std::int64_t create_growing(const char* name, int rank, const std::vector<std::uint64_t>& frame_dims,
-                              std::int64_t type);
+  std::int64_t create_growing(const char* name, int rank,
+                              const std::vector<std::uint64_t>& frame_dims, std::int64_t type);
   void append_rows(std::int64_t dataset, int rank, const std::vector<std::uint64_t>& frame_dims,
                    std::int64_t mem_type, const void* data);
 

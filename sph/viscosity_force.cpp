@@ -11,7 +11,7 @@ void ViscosityForce::add_acceleration(FluidParticles& fluid, const BoundaryParti
   const Real cb = Real(2 * (3 + 2)) * nu_boundary_;
   const Vec3* x = fluid.position.data();
   const Vec3* v = fluid.velocity.data();
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(dynamic, 64)
   for (long li = 0; li < n; ++li) {
     const Index i = Index(li);
     Vec3 a = Vec3::Zero();
@@ -26,8 +26,7 @@ void ViscosityForce::add_acceleration(FluidParticles& fluid, const BoundaryParti
     if (cb > 0) {
       nb.boundary.for_each(i, [&](Index b, Index k) {
         const Vec3 xib = x[i] - boundary.position[b];
-        a += (cb * v[i].dot(xib) / (xib.squaredNorm() + eps)) *
-             nb.boundary.gradient[k];
+        a += (cb * v[i].dot(xib) / (xib.squaredNorm() + eps)) * nb.boundary.gradient[k];
       });
     }
     fluid.acceleration[i] += a;

@@ -23,19 +23,21 @@ void WcsphSolver::step(SolverHost& host, StepStats& stats) {
   const Real gamma = config_.stiffness_exponent;
   double error_sum = 0;
   Real error_max = 0;
-#pragma omp parallel for schedule(static) reduction(+ : error_sum) reduction(max : error_max)
+#pragma omp parallel for schedule(dynamic, 64) reduction(+ : error_sum) reduction(max : error_max)
   for (long li = 0; li < n; ++li) {
     const size_t i = size_t(li);
     const Real rho0 = fluid.rest_density[i];
     const Real stiffness = rho0 * sound_speed_ * sound_speed_ / gamma;
-    fluid.pressure[i] = std::max(stiffness * (std::pow(fluid.density[i], gamma) - Real(1)), Real(0));
+    fluid.pressure[i] =
+        std::max(stiffness * (std::pow(fluid.density[i], gamma) - Real(1)), Real(0));
     const Real error = std::max(fluid.density[i] - Real(1), Real(0));
     error_sum += double(error);
     error_max = std::max(error_max, error);
   }
-  // a_i = -sum_j m_j (p_i / rho_i^2 + p_j / rho_j^2) grad W_ij - sum_b rho0 V_b p_i / rho_i^2 grad W
-  // with m_j = rho0 V_j (V_j is folded into the stored gradients): the factor p / (rho0 rhohat^2).
-#pragma omp parallel for schedule(static)
+  // a_i = -sum_j m_j (p_i / rho_i^2 + p_j / rho_j^2) grad W_ij - sum_b rho0 V_b p_i / rho_i^2 grad
+  // W with m_j = rho0 V_j (V_j is folded into the stored gradients): the factor p / (rho0
+  // rhohat^2).
+#pragma omp parallel for schedule(dynamic, 64)
   for (long li = 0; li < n; ++li) {
     const Index i = Index(li);
     auto pressure_term = [&](Index j) {
@@ -43,10 +45,11 @@ void WcsphSolver::step(SolverHost& host, StepStats& stats) {
     };
     const Real ti = pressure_term(i);
     Vec3 a = -ti * nb.boundary_gradient_sum[i];
-    nb.fluid.for_each(i, [&](Index j, Index k) { a -= (ti + pressure_term(j)) * nb.fluid.gradient[k]; });
+    nb.fluid.for_each(
+        i, [&](Index j, Index k) { a -= (ti + pressure_term(j)) * nb.fluid.gradient[k]; });
     fluid.acceleration[i] += a;
   }
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(dynamic, 64)
   for (long li = 0; li < n; ++li) {
     const size_t i = size_t(li);
     fluid.velocity[i] += dt * fluid.acceleration[i];

@@ -16,7 +16,7 @@ class XsphForce : public NonPressureForce {
     const long n = long(fluid.active_count());
     const Real scale = c_ / dt;
     const Vec3* v = fluid.velocity.data();
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(dynamic, 64)
     for (long li = 0; li < n; ++li) {
       const Index i = Index(li);
       Vec3 dv = Vec3::Zero();

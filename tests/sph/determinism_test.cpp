@@ -24,8 +24,9 @@ TEST(Determinism, OneThreadGivesBitIdenticalTrajectories) {
   const int threads = omp_get_max_threads();
   omp_set_num_threads(1);
   // The dam break for 0.2 s at a coarse resolution, with reordering every 5 steps.
-  const LoadedScene scene = load_scene(std::string(SPILL_SOURCE_DIR) + "/configs/scenes/dam_break.json",
-                                       {"/particle_radius=0.05", "/reorder_interval=5"});
+  const LoadedScene scene =
+      load_scene(std::string(SPILL_SOURCE_DIR) + "/configs/scenes/dam_break.json",
+                 {"/particle_radius=0.05", "/reorder_interval=5"});
   const auto a = run_once(scene);
   const auto b = run_once(scene);
   omp_set_num_threads(threads);

@@ -34,7 +34,8 @@ HydrostaticResult run_hydrostatic(const std::vector<std::string>& overrides) {
   const double rho0 = double(scene.config.fluid.density);
   // The free surface: the top particle layer's centres plus one radius.
   double top = -1e9;
-  for (Index i = 0; i < fluid.active_count(); ++i) top = std::max(top, double(fluid.position[i][2]));
+  for (Index i = 0; i < fluid.active_count(); ++i)
+    top = std::max(top, double(fluid.position[i][2]));
   const double surface = top + r;
   // Average pressure and depth in horizontal bins one diameter thick, at least two support radii
   // (the particles that see the wall and their neighbours) away from the side walls and the

@@ -36,7 +36,8 @@ void expect_gradient_matches_finite_differences(const K& w) {
     const Real len = r.norm();
     // Skip points near the origin, the support edge and the cubic spline's knot at h/2, where a
     // finite difference straddles a kink of the second derivative.
-    if (len < Real(0.05) * h || len > Real(0.95) * h || std::abs(len - Real(0.5) * h) < Real(0.02) * h)
+    if (len < Real(0.05) * h || len > Real(0.95) * h ||
+        std::abs(len - Real(0.5) * h) < Real(0.02) * h)
       continue;
     const Vec3 g = w.gradient(r);
     const double step = 1e-3 * double(h);

@@ -93,8 +93,8 @@ TEST(RunOutputs, WritesTheDataContract) {
 
   nlohmann::json meta;
   std::ifstream(options.out_dir / "metadata.json") >> meta;
-  for (const char* key : {"frame_dt", "frame_stride", "bounds", "particle_radius",
-                          "support_radius", "gravity", "solver", "scene", "particle_types"})
+  for (const char* key : {"frame_dt", "frame_stride", "bounds", "particle_radius", "support_radius",
+                          "gravity", "solver", "scene", "particle_types"})
     EXPECT_TRUE(meta.contains(key)) << key;
   EXPECT_EQ(meta["bounds"].size(), 3u);
   EXPECT_EQ(meta["solver"], "dfsph");

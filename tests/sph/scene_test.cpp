@@ -156,12 +156,14 @@ TEST(Scene, ExecutableReportsBadSceneAndWritesNothing) {
   auto j = minimal_scene();
   j["fluid"] = {{"viscosity", -0.1}};
   std::ofstream(dir / "bad.json") << j.dump();
-  const std::string cmd = std::string(SPILL_SIM_EXE) + " run --scene " + (dir / "bad.json").string() +
-                          " --out " + (dir / "out").string() + " 2> " + (dir / "err.txt").string();
+  const std::string cmd = std::string(SPILL_SIM_EXE) + " run --scene " +
+                          (dir / "bad.json").string() + " --out " + (dir / "out").string() +
+                          " 2> " + (dir / "err.txt").string();
   const int status = std::system(cmd.c_str());
   EXPECT_NE(status, 0);
   std::ifstream err(dir / "err.txt");
-  const std::string message((std::istreambuf_iterator<char>(err)), std::istreambuf_iterator<char>());
+  const std::string message((std::istreambuf_iterator<char>(err)),
+                            std::istreambuf_iterator<char>());
   EXPECT_NE(message.find("bad.json:/fluid/viscosity: expected >= 0, got -0.1"), std::string::npos)
       << message;
   EXPECT_FALSE(fs::exists(dir / "out"));
