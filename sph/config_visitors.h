@@ -4,7 +4,9 @@
 //   JsonWriter   writes the resolved config back to JSON (defaults filled in)
 //   DocTable     lists every parameter as a Markdown table row for the documentation
 
+#include <charconv>
 #include <cmath>
+#include <cstdlib>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <set>
@@ -38,6 +40,17 @@ inline std::string format_number(double v) {
   return s.str();
 }
 }  // namespace detail
+
+// The shortest decimal that reads back as the same float, so 0.005f is written as 0.005 and
+// not as 0.004999999888241291.
+inline double shortest_decimal(float v) {
+  char buffer[32];
+  const auto end = std::to_chars(buffer, buffer + sizeof buffer, v).ptr;
+  return std::strtod(std::string(buffer, end).c_str(), nullptr);
+}
+inline double shortest_decimal(double v) {
+  return v;
+}
 
 class JsonReader {
  public:
@@ -183,12 +196,12 @@ class JsonWriter {
 
  private:
   static nlohmann::json to_json(double v) { return v; }
-  static nlohmann::json to_json(float v) { return static_cast<double>(v); }
+  static nlohmann::json to_json(float v) { return shortest_decimal(v); }
   static nlohmann::json to_json(int v) { return v; }
   static nlohmann::json to_json(bool v) { return v; }
   static nlohmann::json to_json(const std::string& v) { return v; }
   static nlohmann::json to_json(const Vec3& v) {
-    return {static_cast<double>(v[0]), static_cast<double>(v[1]), static_cast<double>(v[2])};
+    return {to_json(v[0]), to_json(v[1]), to_json(v[2])};
   }
   template <class T>
   static nlohmann::json to_json(const std::vector<T>& v) {
@@ -233,7 +246,7 @@ class DocTable {
     } else {
       rows_ += "| `" + ptr + "` | " + spec.unit + " | " +
                (spec.required ? std::string("required") : "`" + default_text(value) + "`") + " | " +
-               range_text(spec) + " | " + spec.description + " |\n";
+               range_text(spec) + " | " + escape(spec.description) + " |\n";
     }
   }
 
@@ -255,6 +268,11 @@ class DocTable {
     JsonWriter w(j);
     w.field("v", v, ParamSpec{});
     return j["v"].dump();
+  }
+  static std::string escape(const std::string& text) {  // '|' would end a table cell
+    std::string out;
+    for (char c : text) out += c == '|' ? std::string("\\|") : std::string(1, c);
+    return out;
   }
   static std::string range_text(const ParamSpec& s) {
     std::string r;

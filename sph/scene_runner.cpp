@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "sph/config_error.h"
+#include "sph/config_visitors.h"
 #include "sph/image_writer.h"
 #include "sph/ply_writer.h"
 #include "sph/progress.h"
@@ -21,7 +22,7 @@ namespace fs = std::filesystem;
 namespace {
 
 int frame_count(const SceneConfig& s) {
-  return int(std::llround(double(s.end_time) / double(s.output.frame_dt)));
+  return int(std::llround(double(s.end_time) / shortest_decimal(s.output.frame_dt)));
 }
 
 nlohmann::json vec_json(const Vec3& v) {
@@ -138,21 +139,21 @@ nlohmann::json run_metadata(const Simulation& sim, const LoadedScene& scene, int
   const SceneConfig& s = scene.config;
   const Aabb& d = sim.domain();
   const double stride =
-      std::max(1.0, std::round(double(s.output.frame_dt) / double(s.time_step.dt_max)));
+      std::max(1.0, std::round(shortest_decimal(s.output.frame_dt) / double(s.time_step.dt_max)));
   return {{"dim", 3},
-          {"frame_dt", double(s.output.frame_dt)},
-          {"dt", double(s.output.frame_dt)},
+          {"frame_dt", shortest_decimal(s.output.frame_dt)},
+          {"dt", shortest_decimal(s.output.frame_dt)},
           {"frame_stride", long(stride)},
           {"frame_stride_note",
            "solver steps per frame at dt_max; the adaptive step may take more, see stats.json"},
           {"sequence_length", frames + 1},
           {"bounds",
-           {{double(d.min[0]), double(d.max[0])},
-            {double(d.min[1]), double(d.max[1])},
-            {double(d.min[2]), double(d.max[2])}}},
-          {"particle_radius", double(s.particle_radius)},
-          {"support_radius", double(s.support_radius())},
-          {"default_connectivity_radius", double(s.support_radius())},
+           {{shortest_decimal(d.min[0]), shortest_decimal(d.max[0])},
+            {shortest_decimal(d.min[1]), shortest_decimal(d.max[1])},
+            {shortest_decimal(d.min[2]), shortest_decimal(d.max[2])}}},
+          {"particle_radius", shortest_decimal(s.particle_radius)},
+          {"support_radius", shortest_decimal(s.support_radius())},
+          {"default_connectivity_radius", shortest_decimal(s.support_radius())},
           {"gravity", vec_json(s.gravity)},
           {"solver", s.solver},
           {"kernel", s.kernel},
@@ -217,7 +218,7 @@ nlohmann::json run_scene(const LoadedScene& scene, const RunOptions& options) {
     if (options.stop && options.stop->load())
       throw RunInterrupted("interrupted at frame " + std::to_string(frame) + "; nothing written");
     const FrameStats f =
-        sim.advance_to(double(frame) * double(scene.config.output.frame_dt), frame);
+        sim.advance_to(double(frame) * shortest_decimal(scene.config.output.frame_dt), frame);
     it_density += f.iterations_density * f.steps;
     it_divergence += f.iterations_divergence * f.steps;
     frame_list.push_back(frame_json(sim, f));
@@ -247,7 +248,7 @@ nlohmann::json benchmark_scene(const LoadedScene& scene, int threads, std::ostre
   const auto t0 = std::chrono::steady_clock::now();
   for (int frame = 1; frame <= frames; ++frame) {
     const FrameStats f =
-        sim.advance_to(double(frame) * double(scene.config.output.frame_dt), frame);
+        sim.advance_to(double(frame) * shortest_decimal(scene.config.output.frame_dt), frame);
     it_density += f.iterations_density * f.steps;
     it_divergence += f.iterations_divergence * f.steps;
     if (log) progress.update(frame, frame_detail(sim, f));
@@ -258,7 +259,7 @@ nlohmann::json benchmark_scene(const LoadedScene& scene, int threads, std::ostre
   nlohmann::json j = summary_json(sim, wall_s, it_density / steps, it_divergence / steps, threads);
   j["scene"] = scene.config.name;
   j["solver"] = scene.config.solver;
-  j["particle_radius"] = double(scene.config.particle_radius);
+  j["particle_radius"] = shortest_decimal(scene.config.particle_radius);
   return j;
 }
 

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iostream>
 
 #include "sph/scene.h"
 #include "sph/simulation.h"
@@ -77,6 +78,7 @@ HydrostaticResult run_hydrostatic(const std::vector<std::string>& overrides) {
 
 TEST(Hydrostatic, DfsphPressureGrowsAsRhoGDepth) {
   const HydrostaticResult r = run_hydrostatic({});
+  std::cout << r.table << "worst relative error " << r.worst_relative_error << "\n";
   EXPECT_LT(r.worst_relative_error, 0.03) << r.table;
   EXPECT_LT(r.density_error_avg, 0.0005);  // the scene's threshold, 0.05 %
   EXPECT_LT(r.max_speed, 0.05) << "the water should be at rest";
