@@ -74,76 +74,69 @@ void DfsphSolver::apply_stiffness(FluidParticles& fluid, const ParticleNeighbour
   }
 }
 
-int DfsphSolver::solve_divergence(FluidParticles& fluid, const ParticleNeighbourhood& nb, Real dt) {
+template <class PredictedError>
+int DfsphSolver::solve(FluidParticles& fluid, const ParticleNeighbourhood& nb, Real dt,
+                       std::vector<Real>& stiffness_total, double tolerance, int min_iterations,
+                       PredictedError predicted_error, double& error_avg, double& error_max) {
   const long n = long(fluid.active_count());
+  error_avg = error_max = 0;
   if (n == 0) return 0;
-  const double eta = double(config_.divergence_error_percent) * 0.01;
-  // Warm start with last step's stiffness, then iterate on the remaining divergence.
+  // Warm start with half of last step's stiffness (the full amount overshoots and, since only
+  // compression is corrected, an overshoot is never taken back), then iterate on what is left.
   if (config_.warm_start) {
-    for (long i = 0; i < n; ++i) s_[size_t(i)] = Real(0.5) * stiffness_divergence_[size_t(i)];
+    for (long i = 0; i < n; ++i) s_[size_t(i)] = Real(0.5) * stiffness_total[size_t(i)];
     apply_stiffness(fluid, nb, s_, dt);
-    std::copy(s_.begin(), s_.begin() + n, stiffness_divergence_.begin());
+    std::copy(s_.begin(), s_.begin() + n, stiffness_total.begin());
   } else {
-    std::fill(stiffness_divergence_.begin(), stiffness_divergence_.begin() + n, Real(0));
+    std::fill(stiffness_total.begin(), stiffness_total.begin() + n, Real(0));
   }
   int iterations = 0;
   while (true) {
-    double error_sum = 0;
-#pragma omp parallel for schedule(dynamic, 64) reduction(+ : error_sum)
+    double sum = 0;
+    Real largest = 0;
+#pragma omp parallel for schedule(dynamic, 64) reduction(+ : sum) reduction(max : largest)
     for (long li = 0; li < n; ++li) {
       const Index i = Index(li);
-      Real rate = 0;
-      if (nb.fluid.lists.count(i) + nb.boundary.lists.count(i) >= kMinNeighboursForDivergence)
-        rate = std::max(density_rate(i, fluid, nb), Real(0));
-      s_[i] = dt * rate * alpha_[i];
-      error_sum += double(rate) * dt;
+      const Real error = predicted_error(i);  // >= 0: relative compression after this step
+      s_[i] = error * alpha_[i];
+      sum += double(error);
+      largest = std::max(largest, error);
     }
-    const double error_avg = error_sum / double(n);
-    if ((error_avg <= eta && iterations >= config_.min_iterations_divergence) ||
+    error_avg = sum / double(n);
+    error_max = double(largest);
+    if ((error_avg <= tolerance && iterations >= min_iterations) ||
         iterations >= config_.max_iterations)
       break;
     apply_stiffness(fluid, nb, s_, dt);
-    for (long i = 0; i < n; ++i) stiffness_divergence_[size_t(i)] += s_[size_t(i)];
+    for (long i = 0; i < n; ++i) stiffness_total[size_t(i)] += s_[size_t(i)];
     ++iterations;
   }
   return iterations;
 }
 
+int DfsphSolver::solve_divergence(FluidParticles& fluid, const ParticleNeighbourhood& nb, Real dt) {
+  // The density change over one step from the current divergence, compression only, and only
+  // where a particle has a full neighbourhood.
+  auto error_of = [&](Index i) {
+    if (nb.fluid.lists.count(i) + nb.boundary.lists.count(i) < kMinNeighboursForDivergence)
+      return Real(0);
+    return dt * std::max(density_rate(i, fluid, nb), Real(0));
+  };
+  double avg = 0, max = 0;
+  return solve(fluid, nb, dt, stiffness_divergence_,
+               double(config_.divergence_error_percent) * 0.01, config_.min_iterations_divergence,
+               error_of, avg, max);
+}
+
 int DfsphSolver::solve_density(FluidParticles& fluid, const ParticleNeighbourhood& nb, Real dt,
                                StepStats& stats) {
-  const long n = long(fluid.active_count());
-  if (n == 0) return 0;
-  const double eta = double(config_.density_error_percent) * 0.01;
-  if (config_.warm_start) {
-    for (long i = 0; i < n; ++i) s_[size_t(i)] = Real(0.5) * stiffness_density_[size_t(i)];
-    apply_stiffness(fluid, nb, s_, dt);
-    std::copy(s_.begin(), s_.begin() + n, stiffness_density_.begin());
-  } else {
-    std::fill(stiffness_density_.begin(), stiffness_density_.begin() + n, Real(0));
-  }
-  int iterations = 0;
-  while (true) {
-    double error_sum = 0;
-    Real error_max = 0;
-#pragma omp parallel for schedule(dynamic, 64) reduction(+ : error_sum) reduction(max : error_max)
-    for (long li = 0; li < n; ++li) {
-      const Index i = Index(li);
-      const Real predicted = fluid.density[i] + dt * density_rate(i, fluid, nb);
-      const Real error = std::max(predicted - Real(1), Real(0));
-      s_[i] = error * alpha_[i];
-      error_sum += double(error);
-      error_max = std::max(error_max, error);
-    }
-    stats.density_error_avg = error_sum / double(n);
-    stats.density_error_max = double(error_max);
-    if ((stats.density_error_avg <= eta && iterations >= config_.min_iterations_density) ||
-        iterations >= config_.max_iterations)
-      break;
-    apply_stiffness(fluid, nb, s_, dt);
-    for (long i = 0; i < n; ++i) stiffness_density_[size_t(i)] += s_[size_t(i)];
-    ++iterations;
-  }
-  return iterations;
+  // The density the predicted velocities would lead to, compression only.
+  auto error_of = [&](Index i) {
+    return std::max(fluid.density[i] + dt * density_rate(i, fluid, nb) - Real(1), Real(0));
+  };
+  return solve(fluid, nb, dt, stiffness_density_, double(config_.density_error_percent) * 0.01,
+               config_.min_iterations_density, error_of, stats.density_error_avg,
+               stats.density_error_max);
 }
 
 void DfsphSolver::step(SolverHost& host, StepStats& stats) {

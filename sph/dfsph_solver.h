@@ -31,6 +31,12 @@ class DfsphSolver : public PressureSolver {
   int solve_divergence(FluidParticles& fluid, const ParticleNeighbourhood& nb, Real dt);
   int solve_density(FluidParticles& fluid, const ParticleNeighbourhood& nb, Real dt,
                     StepStats& stats);
+  // The iteration both solves share: s_i = predicted_error(i) alpha_i, velocities corrected
+  // until the mean predicted error is below `tolerance`; stiffness_total sums s over the step.
+  template <class PredictedError>
+  int solve(FluidParticles& fluid, const ParticleNeighbourhood& nb, Real dt,
+            std::vector<Real>& stiffness_total, double tolerance, int min_iterations,
+            PredictedError predicted_error, double& error_avg, double& error_max);
   // dv_i = -(1/dt) [sum_j V_j (s_i + s_j) grad W_ij + sum_b V_b s_i grad W_ib] for all i.
   void apply_stiffness(FluidParticles& fluid, const ParticleNeighbourhood& nb,
                        const std::vector<Real>& s, Real dt) const;
