@@ -18,8 +18,13 @@ void ViscosityForce::add_acceleration(FluidParticles& fluid, const BoundaryParti
     if (c > 0) {
       nb.fluid.for_each(i, [&](Index j, Index k) {
         const Vec3 xij = x[i] - x[j];
-        // gradient[k] carries V_j; m_j / rho_j = V_j / (rho_j / rho0).
-        a += (c * (v[i] - v[j]).dot(xij) / ((xij.squaredNorm() + eps) * fluid.density[j])) *
+        // m_j / rho_ij with the pair's mean density rho_ij, so that the force on i from j is
+        // exactly opposite to the force on j from i (m_i m_j / rho_ij is symmetric) and momentum
+        // is conserved also where densities differ (free surface); gradient[k] carries V_j.
+        const Real mean_density = Real(0.5) * (fluid.rest_density[i] * fluid.density[i] +
+                                               fluid.rest_density[j] * fluid.density[j]);
+        a += (c * fluid.rest_density[j] * (v[i] - v[j]).dot(xij) /
+              ((xij.squaredNorm() + eps) * mean_density)) *
              nb.fluid.gradient[k];
       });
     }

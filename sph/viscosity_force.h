@@ -1,9 +1,11 @@
 #pragma once
 // Viscosity with the standard SPH Laplacian approximation of
 //   Monaghan, "Smoothed particle hydrodynamics", Rep. Prog. Phys. 68 (2005), eq. 6.26 form:
-//   a_i = 2 (d + 2) nu sum_j (m_j / rho_j) (v_ij . x_ij) / (|x_ij|^2 + 0.01 h^2) grad W_ij
-// with d = 3. The same term against the (resting) boundary particles, with its own coefficient,
-// is the boundary friction (Akinci et al. 2012 use this form for rigid-fluid friction).
+//   a_i = 2 (d + 2) nu sum_j (m_j / rho_ij) (v_ij . x_ij) / (|x_ij|^2 + 0.01 h^2) grad W_ij
+// with d = 3 and rho_ij = (rho_i + rho_j) / 2 (the pair's mean density, which makes the pair
+// forces equal and opposite: momentum is conserved exactly, also at the free surface). The same
+// term against the (resting) boundary particles, with its own coefficient, is the boundary friction
+// (Akinci et al. 2012 use this form for rigid-fluid friction).
 
 #include "sph/non_pressure_force.h"
 

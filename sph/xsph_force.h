@@ -1,6 +1,7 @@
 #pragma once
 // XSPH velocity smoothing, Monaghan, "On the problem of penetration in particle methods",
-// J. Comput. Phys. 82 (1989): v_i += c sum_j (m_j / rho_j) (v_j - v_i) W_ij, applied as the
+// J. Comput. Phys. 82 (1989): v_i += c sum_j (m_j / rho_ij) (v_j - v_i) W_ij with the pair's
+// mean density rho_ij (Monaghan's symmetric form, which conserves momentum), applied as the
 // acceleration that produces this change over the coming step.
 
 #include "sph/non_pressure_force.h"
@@ -21,7 +22,10 @@ class XsphForce : public NonPressureForce {
       const Index i = Index(li);
       Vec3 dv = Vec3::Zero();
       nb.fluid.for_each(i, [&](Index j, Index k) {
-        dv += (fluid.rest_volume[j] / fluid.density[j] * nb.fluid.value[k]) * (v[j] - v[i]);
+        const Real mean_density = Real(0.5) * (fluid.rest_density[i] * fluid.density[i] +
+                                               fluid.rest_density[j] * fluid.density[j]);
+        dv += (fluid.rest_density[j] * fluid.rest_volume[j] / mean_density * nb.fluid.value[k]) *
+              (v[j] - v[i]);
       });
       fluid.acceleration[i] += scale * dv;
     }
