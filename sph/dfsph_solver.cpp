@@ -30,8 +30,8 @@ inline Real density_rate(Index i, const FluidParticles& fluid, const ParticleNei
 
 }  // namespace
 
-DfsphSolver::DfsphSolver(const DfsphConfig& config, Real initial_dt)
-    : config_(config), last_dt_(initial_dt) {}
+DfsphSolver::DfsphSolver(const DfsphConfig& config, Real initial_dt, Real reference_density)
+    : config_(config), last_dt_(initial_dt), reference_density_(reference_density) {}
 
 void DfsphSolver::permute(const std::vector<Index>& order) {
   std::vector<Real> scratch;
@@ -48,12 +48,12 @@ void DfsphSolver::compute_factors(const FluidParticles& fluid, const ParticleNei
     const Index i = Index(li);
     Vec3 grad_sum = nb.boundary_gradient_sum[i];
     Real sum_sq = 0;
-    nb.fluid.for_each(i, [&](Index, Index k) {
+    nb.fluid.for_each(i, [&](Index j, Index k) {
       const Vec3& g = nb.fluid.gradient[k];
       grad_sum += g;
-      sum_sq += g.squaredNorm();
+      sum_sq += density_ratio_[j] * g.squaredNorm();
     });
-    const Real denominator = grad_sum.squaredNorm() + sum_sq;
+    const Real denominator = density_ratio_[i] * grad_sum.squaredNorm() + sum_sq;
     alpha_[i] = denominator > tiny ? Real(1) / denominator : Real(0);
   }
 }
@@ -70,7 +70,7 @@ void DfsphSolver::apply_stiffness(FluidParticles& fluid, const ParticleNeighbour
     const auto& ff = nb.fluid;
     for (Index k = ff.lists.offsets[i]; k < ff.lists.offsets[i + 1]; ++k)
       dv += (si + s[ff.lists.indices[k]]) * ff.gradient[k];
-    fluid.velocity[i] -= inv_dt * dv;
+    fluid.velocity[i] -= (inv_dt * density_ratio_[i]) * dv;
   }
 }
 
@@ -146,12 +146,15 @@ void DfsphSolver::step(SolverHost& host, StepStats& stats) {
   stiffness_density_.resize(size, 0);
   stiffness_divergence_.resize(size, 0);
   s_.resize(size, 0);
+  density_ratio_.resize(size, 1);
 
   host.update_neighbourhood();
   const ParticleNeighbourhood& nb = host.neighbourhood();
   const long n = long(fluid.active_count());
 
   auto t0 = std::chrono::steady_clock::now();
+  for (long i = 0; i < n; ++i)
+    density_ratio_[size_t(i)] = reference_density_ / fluid.rest_density[size_t(i)];
   compute_factors(fluid, nb);
   stats.iterations_divergence =
       config_.divergence_solver ? solve_divergence(fluid, nb, last_dt_) : 0;
@@ -168,14 +171,14 @@ void DfsphSolver::step(SolverHost& host, StepStats& stats) {
   stats.iterations_density = solve_density(fluid, nb, dt, stats);
   host.time_split().pressure_solve += seconds_since(t0);
 
-  // Pressure for output: p = rho0 (rho/rho0)^2 kappa with kappa = s / dt^2 of each solve.
+  // Pressure for output: p = rho_ref (rho/rho0)^2 kappa with kappa = s / dt^2 of each solve.
   const Real inv_dt2 = Real(1) / (dt * dt), inv_dt2_div = Real(1) / (last_dt_ * last_dt_);
 #pragma omp parallel for schedule(dynamic, 64)
   for (long li = 0; li < n; ++li) {
     const size_t i = size_t(li);
     fluid.position[i] += dt * fluid.velocity[i];
     const Real kappa = stiffness_density_[i] * inv_dt2 + stiffness_divergence_[i] * inv_dt2_div;
-    fluid.pressure[i] = fluid.rest_density[i] * fluid.density[i] * fluid.density[i] * kappa;
+    fluid.pressure[i] = reference_density_ * fluid.density[i] * fluid.density[i] * kappa;
   }
   stats.dt = dt;
   last_dt_ = dt;

@@ -12,8 +12,17 @@
 // the constant-density solve sets s_i = max(rho*_i/rho0 - 1, 0) alpha_i and the divergence solve
 // s_i = dt max(D rho_i/Dt / rho0, 0) alpha_i, which is the paper's kappa_i times dt^2 (eq. 8-10).
 // Being dt-free, the stiffness summed over one step's iterations warm-starts the next step even
-// when dt changes. Boundary particles mirror the fluid particle's pressure (Akinci et al. 2012),
-// which is why the boundary terms carry s_i only; alpha_i includes their gradients accordingly.
+// when dt changes.
+//
+// Phases of different rest density (oil on water) use the number-density formulation of
+// Solenthaler & Pajarola, "Density contrast SPH interfaces", SCA 2008: the solves make the kernel
+// sum of volumes rho/rho0 equal 1 for every particle, the pressure field is shared, and a
+// particle's pressure acceleration is scaled by r_i = rho_ref / rho0_i (rho_ref: water), so the
+// same pressure lifts light oil more than water (buoyancy) and pair forces stay equal and
+// opposite. Then dv_i = -(r_i/dt) [...] above and alpha_i = 1 / (r_i |sum_j V_j grad W_ij +
+// sum_b V_b grad W_ib|^2 + sum_j r_j |V_j grad W_ij|^2). With one phase r = 1 everywhere. Boundary
+// particles mirror the fluid particle's pressure (Akinci et al. 2012), which is why the boundary
+// terms carry s_i only; alpha_i includes their gradients accordingly.
 
 #include "sph/pressure_solver.h"
 
@@ -21,7 +30,7 @@ namespace sph {
 
 class DfsphSolver : public PressureSolver {
  public:
-  DfsphSolver(const DfsphConfig& config, Real initial_dt);
+  DfsphSolver(const DfsphConfig& config, Real initial_dt, Real reference_density);
   std::string name() const override { return "dfsph"; }
   void step(SolverHost& host, StepStats& stats) override;
   void permute(const std::vector<Index>& order) override;
@@ -43,6 +52,8 @@ class DfsphSolver : public PressureSolver {
 
   DfsphConfig config_;
   Real last_dt_;
+  Real reference_density_;
+  std::vector<Real> density_ratio_;         // [n] r_i = rho_ref / rho0_i
   std::vector<Real> alpha_;                 // [n] 1 / (|sum V grad W|^2 + sum |V grad W|^2)
   std::vector<Real> stiffness_density_;     // [n] sum of s over this step's density iterations
   std::vector<Real> stiffness_divergence_;  // [n] same for the divergence solve

@@ -8,10 +8,10 @@ namespace sph {
 std::vector<std::unique_ptr<NonPressureForce>> make_non_pressure_forces(const SceneConfig& scene) {
   std::vector<std::unique_ptr<NonPressureForce>> forces;
   forces.push_back(std::make_unique<GravityForce>(scene.gravity));
-  if (scene.fluid.viscosity > 0 || scene.boundary.friction > 0)
-    forces.push_back(
-        std::make_unique<ViscosityForce>(scene.fluid.viscosity, scene.boundary.friction));
-  if (scene.fluid.xsph > 0) forces.push_back(std::make_unique<XsphForce>(scene.fluid.xsph));
+  const MaterialsConfig& m = scene.materials;
+  if (m.water.viscosity > 0 || m.oil.viscosity > 0 || scene.boundary.friction > 0)
+    forces.push_back(std::make_unique<ViscosityForce>(scene.boundary.friction));
+  if (scene.xsph > 0) forces.push_back(std::make_unique<XsphForce>(scene.xsph));
   return forces;
 }
 

@@ -10,6 +10,18 @@
 
 namespace sph {
 
+// What a particle's phase composition makes of it (the mixture of Ren et al. 2014).
+struct PhaseMix {
+  Real oil_fraction = 0;  // volume fraction of oil; water has 1 - oil_fraction
+  Real rest_density = 1000;
+  Real viscosity = 0;                        // kinematic, m^2/s
+  ParticleType type = ParticleType::kWater;  // the dominant phase
+};
+
+// Mixture rest density and viscosity: fraction-weighted sums over the phases.
+PhaseMix mix_phases(Real oil_fraction, Real water_density, Real water_viscosity, Real oil_density,
+                    Real oil_viscosity);
+
 struct FluidParticles {
   std::vector<Vec3> position;
   std::vector<Vec3> velocity;
@@ -17,7 +29,9 @@ struct FluidParticles {
   std::vector<Real> density;       // rho / rho0 (dimensionless)
   std::vector<Real> pressure;      // Pa, as applied by the pressure solver in the last step
   std::vector<Real> rest_volume;   // m^3; mass = rest_density * rest_volume
-  std::vector<Real> rest_density;  // kg/m^3
+  std::vector<Real> rest_density;  // kg/m^3, of the particle's phase mixture
+  std::vector<Real> viscosity;     // m^2/s, kinematic, of the particle's phase mixture
+  std::vector<Real> oil_fraction;  // volume fraction of oil in [0, 1]
   std::vector<ParticleType> type;
   std::vector<Index> id;  // fixed identity in [0, size())
   Index active = 0;       // number of active particles (they come first)
@@ -26,7 +40,7 @@ struct FluidParticles {
   Index active_count() const { return active; }
 
   // Appends an active particle; its identity is the next free number.
-  void add(const Vec3& x, const Vec3& v, Real volume, Real rho0, ParticleType t);
+  void add(const Vec3& x, const Vec3& v, Real volume, const PhaseMix& mix);
 
   // Reorders every array so that new index k holds old particle order[k]. `order` must be a
   // permutation of [0, active_count()) (inactive particles keep their place).

@@ -1,5 +1,6 @@
 #include "sph/scene.h"
 
+#include <cmath>
 #include <fstream>
 #include <sstream>
 
@@ -46,6 +47,13 @@ void check_consistency(const SceneConfig& s, const std::string& file) {
         throw ConfigError(file, ptr + "/" + std::to_string(r),
                           "expected rows of equal length >= 2");
     }
+  }
+  for (size_t i = 0; i < s.fluid_blocks.size(); ++i) {
+    const auto& f = s.fluid_blocks[i].fractions;
+    if (f && std::abs(double(f->water) + double(f->oil) - 1) > 1e-6)
+      throw ConfigError(file, "/fluid_blocks/" + std::to_string(i) + "/fractions",
+                        "expected volume fractions that sum to 1, got water " +
+                            std::to_string(f->water) + " + oil " + std::to_string(f->oil));
   }
   if (s.fluid_blocks.empty())
     throw ConfigError(file, "/fluid_blocks", "expected at least one fluid block");

@@ -84,15 +84,36 @@ struct WcsphConfig {
 struct FluidMaterialConfig {
   Real density = 1000;
   Real viscosity = Real(0.01);
-  Real xsph = 0;
   template <class V>
   void describe(V& v) {
     v.field("density", density, param("kg/m^3", "Rest density").positive());
     v.field(
         "viscosity", viscosity,
         param("m^2/s", "Kinematic viscosity of the SPH Laplacian viscosity force").non_negative());
-    v.field("xsph", xsph,
-            param("", "XSPH velocity smoothing coefficient").non_negative().at_most(1));
+  }
+};
+
+// The two fluid phases. A particle carries their volume fractions; its rest density and
+// viscosity are the fraction-weighted mixture (Ren et al. 2014).
+struct MaterialsConfig {
+  FluidMaterialConfig water{1000, Real(0.01)};
+  // The reference crude oil: 0.94 x water's density, 4 x its viscosity.
+  FluidMaterialConfig oil{940, Real(0.04)};
+  template <class V>
+  void describe(V& v) {
+    v.field("water", water, param("", "Water"));
+    v.field("oil", oil, param("", "Oil"));
+  }
+};
+
+// Volume fractions of the phases; they must sum to 1.
+struct FractionsConfig {
+  Real water = 1;
+  Real oil = 0;
+  template <class V>
+  void describe(V& v) {
+    v.field("water", water, param("", "Volume fraction of water").non_negative().at_most(1));
+    v.field("oil", oil, param("", "Volume fraction of oil").non_negative().at_most(1));
   }
 };
 
@@ -141,11 +162,18 @@ struct FluidBlockConfig {
   Vec3 min = Vec3::Zero();
   Vec3 max = Vec3::Zero();
   Vec3 velocity = Vec3::Zero();
+  std::string material = "water";
+  std::optional<FractionsConfig> fractions;
+  // Oil volume fraction of the block's particles (from `fractions`, else from `material`).
+  Real oil_fraction() const { return fractions ? fractions->oil : (material == "oil" ? 1 : 0); }
   template <class V>
   void describe(V& v) {
     v.field("min", min, param("m", "Lower corner").require());
     v.field("max", max, param("m", "Upper corner").require());
     v.field("velocity", velocity, param("m/s", "Initial velocity"));
+    v.field("material", material, param("", "Phase of the block").one_of({"water", "oil"}));
+    v.field("fractions", fractions,
+            param("", "Volume fractions of a mixed block (instead of `material`); sum 1"));
   }
 };
 
@@ -180,7 +208,8 @@ struct SceneConfig {
   Vec3 gravity = Vec3(0, 0, Real(-9.81));
   int reorder_interval = 20;
   TimeStepConfig time_step;
-  FluidMaterialConfig fluid;
+  MaterialsConfig materials;
+  Real xsph = 0;
   BoundaryConfig boundary;
   DfsphConfig dfsph;
   WcsphConfig wcsph;
@@ -212,7 +241,9 @@ struct SceneConfig {
             param("steps", "Sort particle arrays by grid cell every this many steps (0: never)")
                 .at_least(0));
     v.field("time_step", time_step, param("", "Adaptive time step"));
-    v.field("fluid", fluid, param("", "Fluid material"));
+    v.field("materials", materials, param("", "Fluid phases"));
+    v.field("xsph", xsph,
+            param("", "XSPH velocity smoothing coefficient").non_negative().at_most(1));
     v.field("boundary", boundary, param("", "Fluid-boundary interaction"));
     v.field("dfsph", dfsph, param("", "DFSPH solver settings"));
     v.field("wcsph", wcsph, param("", "WCSPH solver settings"));

@@ -82,6 +82,7 @@ PlyPoints fluid_points(const Simulation& sim) {
     p.velocity.push_back(f.velocity[i]);
     p.type.push_back(std::int32_t(f.type[i]));
     p.pressure.push_back(f.pressure[i]);
+    p.oil_fraction.push_back(f.oil_fraction[i]);
   }
   return p;
 }
@@ -194,7 +195,8 @@ nlohmann::json run_scene(const LoadedScene& scene, const RunOptions& options) {
   auto record = [&](int frame) {
     std::vector<std::uint8_t> active(sim.fluid().size(), 0);
     for (Index i = 0; i < sim.fluid().active_count(); ++i) active[sim.fluid().id[i]] = 1;
-    writer.append(sim.time(), sim.positions_by_id(), sim.velocities_by_id(), active);
+    writer.append(sim.time(), sim.positions_by_id(), sim.velocities_by_id(), active,
+                  sim.oil_fractions_by_id());
     if (options.ply)
       write_ply((staging.path / "ply" / frame_file("fluid", frame, "ply")).string(),
                 fluid_points(sim));

@@ -30,9 +30,13 @@ Simulation::Simulation(const SceneConfig& scene)
   boundary_ = build_boundary(scene_, kernel_);
   const Real spacing = scene_.particle_diameter();
   const Real volume = lattice_rest_volume(kernel_, scene_.support_radius(), spacing);
-  for (const auto& block : scene_.fluid_blocks)
+  const MaterialsConfig& m = scene_.materials;
+  for (const auto& block : scene_.fluid_blocks) {
+    const PhaseMix mix = mix_phases(block.oil_fraction(), m.water.density, m.water.viscosity,
+                                    m.oil.density, m.oil.viscosity);
     for (const auto& p : lattice_points(block.min, block.max, spacing))
-      fluid_.add(p, block.velocity, volume, scene_.fluid.density, ParticleType::kWater);
+      fluid_.add(p, block.velocity, volume, mix);
+  }
 
   if (scene_.domain) {
     domain_ = Aabb{scene_.domain->min, scene_.domain->max};
@@ -171,6 +175,11 @@ std::vector<Vec3> Simulation::positions_by_id() const {
 std::vector<Vec3> Simulation::velocities_by_id() const {
   std::vector<Vec3> out(fluid_.size());
   for (Index i = 0; i < fluid_.size(); ++i) out[fluid_.id[i]] = fluid_.velocity[i];
+  return out;
+}
+std::vector<Real> Simulation::oil_fractions_by_id() const {
+  std::vector<Real> out(fluid_.size());
+  for (Index i = 0; i < fluid_.size(); ++i) out[fluid_.id[i]] = fluid_.oil_fraction[i];
   return out;
 }
 std::vector<Real> Simulation::pressures_by_id() const {

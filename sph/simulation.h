@@ -51,6 +51,7 @@ class Simulation : private SolverHost {
   std::vector<Vec3> positions_by_id() const;
   std::vector<Vec3> velocities_by_id() const;
   std::vector<Real> pressures_by_id() const;
+  std::vector<Real> oil_fractions_by_id() const;
 
  private:
   // SolverHost

@@ -14,10 +14,11 @@ std::vector<std::string> pressure_solver_names() {
 
 std::unique_ptr<PressureSolver> make_pressure_solver(const SceneConfig& scene) {
   if (scene.solver == "dfsph")
-    return std::make_unique<DfsphSolver>(scene.dfsph, scene.time_step.dt_max);
+    return std::make_unique<DfsphSolver>(scene.dfsph, scene.time_step.dt_max,
+                                         scene.materials.water.density);
   if (scene.solver == "wcsph")
     return std::make_unique<WcsphSolver>(scene.wcsph, scene.particle_diameter(),
-                                         scene.time_step.cfl);
+                                         scene.time_step.cfl, scene.materials.water.density);
   throw std::invalid_argument("unknown pressure solver \"" + scene.solver + "\"");
 }
 

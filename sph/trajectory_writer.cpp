@@ -57,6 +57,7 @@ TrajectoryWriter::TrajectoryWriter(const std::string& file, const std::string& g
   velocity_id_ = create_growing("velocity", 3, {particles_, 3}, H5T_IEEE_F32LE);
   time_id_ = create_growing("time", 1, {}, H5T_IEEE_F64LE);
   active_id_ = create_growing("active", 2, {particles_}, H5T_STD_U8LE);
+  fraction_id_ = create_growing("volume_fraction", 2, {particles_}, H5T_IEEE_F32LE);
 }
 
 TrajectoryWriter::~TrajectoryWriter() {
@@ -109,8 +110,10 @@ void TrajectoryWriter::append_rows(std::int64_t dataset, int rank,
 
 void TrajectoryWriter::append(double time, const std::vector<Vec3>& position,
                               const std::vector<Vec3>& velocity,
-                              const std::vector<std::uint8_t>& active) {
-  if (position.size() != particles_ || velocity.size() != particles_ || active.size() != particles_)
+                              const std::vector<std::uint8_t>& active,
+                              const std::vector<Real>& oil_fraction) {
+  if (position.size() != particles_ || velocity.size() != particles_ ||
+      active.size() != particles_ || oil_fraction.size() != particles_)
     throw SimulationError(file_ + ": frame has the wrong particle count");
   buffer_.resize(particles_ * 3);
   auto write_vectors = [&](std::int64_t ds, const std::vector<Vec3>& v) {
@@ -122,11 +125,13 @@ void TrajectoryWriter::append(double time, const std::vector<Vec3>& position,
   write_vectors(velocity_id_, velocity);
   append_rows(time_id_, 1, {}, H5T_NATIVE_DOUBLE, &time);
   append_rows(active_id_, 2, {particles_}, H5T_NATIVE_UINT8, active.data());
+  for (size_t i = 0; i < oil_fraction.size(); ++i) buffer_[i] = float(oil_fraction[i]);
+  append_rows(fraction_id_, 2, {particles_}, H5T_NATIVE_FLOAT, buffer_.data());
   ++frames_;
 }
 
 void TrajectoryWriter::close() {
-  for (std::int64_t* ds : {&position_id_, &velocity_id_, &time_id_, &active_id_})
+  for (std::int64_t* ds : {&position_id_, &velocity_id_, &time_id_, &active_id_, &fraction_id_})
     if (*ds >= 0) {
       H5Dclose(hid_t(*ds));
       *ds = -1;

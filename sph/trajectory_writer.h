@@ -4,6 +4,7 @@
 //   /<group>/velocity          [T, N, 3] float32
 //   /<group>/time              [T]       float64   simulated seconds of each frame
 //   /<group>/active            [T, N]    uint8
+//   /<group>/volume_fraction   [T, N]    float32   oil volume fraction
 //   /<group>/particle_type     [N]       int32     0 water, 1 oil, 2 boundary
 //   /<group>/boundary_position [M, 3]    float32
 // Per-frame datasets grow along T and are chunked one frame per chunk: larger chunks overflow
@@ -29,7 +30,7 @@ class TrajectoryWriter {
 
   // Appends one frame; vectors are in identity order and of the particle count N.
   void append(double time, const std::vector<Vec3>& position, const std::vector<Vec3>& velocity,
-              const std::vector<std::uint8_t>& active);
+              const std::vector<std::uint8_t>& active, const std::vector<Real>& oil_fraction);
   // Flushes and closes; the destructor closes too, but only close() reports errors.
   void close();
   std::int64_t frames() const { return frames_; }
@@ -43,6 +44,7 @@ class TrajectoryWriter {
   std::string file_;
   std::int64_t file_id_ = -1, group_id_ = -1;
   std::int64_t position_id_ = -1, velocity_id_ = -1, time_id_ = -1, active_id_ = -1;
+  std::int64_t fraction_id_ = -1;
   std::uint64_t particles_ = 0;
   std::int64_t frames_ = 0;
   std::vector<float> buffer_;

@@ -7,7 +7,7 @@ void ViscosityForce::add_acceleration(FluidParticles& fluid, const BoundaryParti
   const long n = long(fluid.active_count());
   const Real h = nb.support_radius();
   const Real eps = Real(0.01) * h * h;
-  const Real c = Real(2 * (3 + 2)) * nu_;
+  const Real c = Real(2 * (3 + 2)) * Real(0.5);  // 2 (d + 2) times the 1/2 of the pair mean
   const Real cb = Real(2 * (3 + 2)) * nu_boundary_;
   const Vec3* x = fluid.position.data();
   const Vec3* v = fluid.velocity.data();
@@ -15,7 +15,7 @@ void ViscosityForce::add_acceleration(FluidParticles& fluid, const BoundaryParti
   for (long li = 0; li < n; ++li) {
     const Index i = Index(li);
     Vec3 a = Vec3::Zero();
-    if (c > 0) {
+    {
       nb.fluid.for_each(i, [&](Index j, Index k) {
         const Vec3 xij = x[i] - x[j];
         // m_j / rho_ij with the pair's mean density rho_ij, so that the force on i from j is
@@ -23,7 +23,8 @@ void ViscosityForce::add_acceleration(FluidParticles& fluid, const BoundaryParti
         // is conserved also where densities differ (free surface); gradient[k] carries V_j.
         const Real mean_density = Real(0.5) * (fluid.rest_density[i] * fluid.density[i] +
                                                fluid.rest_density[j] * fluid.density[j]);
-        a += (c * fluid.rest_density[j] * (v[i] - v[j]).dot(xij) /
+        const Real nu = fluid.viscosity[i] + fluid.viscosity[j];
+        a += (c * nu * fluid.rest_density[j] * (v[i] - v[j]).dot(xij) /
               ((xij.squaredNorm() + eps) * mean_density)) *
              nb.fluid.gradient[k];
       });

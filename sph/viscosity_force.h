@@ -13,14 +13,14 @@ namespace sph {
 
 class ViscosityForce : public NonPressureForce {
  public:
-  ViscosityForce(Real viscosity, Real boundary_viscosity)
-      : nu_(viscosity), nu_boundary_(boundary_viscosity) {}
+  // The fluid's viscosity is per particle (FluidParticles::viscosity); a pair uses the mean of
+  // its two particles' values.
+  explicit ViscosityForce(Real boundary_viscosity) : nu_boundary_(boundary_viscosity) {}
   std::string name() const override { return "viscosity"; }
   void add_acceleration(FluidParticles& fluid, const BoundaryParticles& boundary,
                         const ParticleNeighbourhood& neighbourhood, Real dt) override;
 
  private:
-  Real nu_;
   Real nu_boundary_;
 };
 

@@ -6,10 +6,12 @@
 
 namespace sph {
 
-WcsphSolver::WcsphSolver(const WcsphConfig& config, Real particle_diameter, Real cfl)
+WcsphSolver::WcsphSolver(const WcsphConfig& config, Real particle_diameter, Real cfl,
+                         Real reference_density)
     : config_(config),
       sound_speed_(config.sound_speed_factor * config.expected_max_velocity),
-      acoustic_dt_limit_(cfl * Real(0.4) * particle_diameter / sound_speed_) {}
+      acoustic_dt_limit_(cfl * Real(0.4) * particle_diameter / sound_speed_),
+      reference_density_(reference_density) {}
 
 void WcsphSolver::step(SolverHost& host, StepStats& stats) {
   FluidParticles& fluid = host.mutable_fluid();
@@ -26,27 +28,28 @@ void WcsphSolver::step(SolverHost& host, StepStats& stats) {
 #pragma omp parallel for schedule(dynamic, 64) reduction(+ : error_sum) reduction(max : error_max)
   for (long li = 0; li < n; ++li) {
     const size_t i = size_t(li);
-    const Real rho0 = fluid.rest_density[i];
-    const Real stiffness = rho0 * sound_speed_ * sound_speed_ / gamma;
+    const Real stiffness = reference_density_ * sound_speed_ * sound_speed_ / gamma;
     fluid.pressure[i] =
         std::max(stiffness * (std::pow(fluid.density[i], gamma) - Real(1)), Real(0));
     const Real error = std::max(fluid.density[i] - Real(1), Real(0));
     error_sum += double(error);
     error_max = std::max(error_max, error);
   }
-  // a_i = -sum_j m_j (p_i / rho_i^2 + p_j / rho_j^2) grad W_ij - sum_b rho0 V_b p_i / rho_i^2 grad
-  // W with m_j = rho0 V_j (V_j is folded into the stored gradients): the factor p / (rho0
-  // rhohat^2).
+  // Number-density form (Solenthaler & Pajarola 2008): a_i = -(rho_ref / rho0_i) sum_j V_j
+  // (kappa_i + kappa_j) grad W_ij - (rho_ref / rho0_i) kappa_i sum_b V_b grad W_ib with
+  // kappa = p / (rho_ref (rho/rho0)^2); V_j is folded into the stored gradients. With one phase
+  // this is the usual -sum_j m_j (p_i / rho_i^2 + p_j / rho_j^2) grad W_ij.
+  const Real inv_reference = Real(1) / reference_density_;
 #pragma omp parallel for schedule(dynamic, 64)
   for (long li = 0; li < n; ++li) {
     const Index i = Index(li);
-    auto pressure_term = [&](Index j) {
-      return fluid.pressure[j] / (fluid.rest_density[j] * fluid.density[j] * fluid.density[j]);
+    auto kappa = [&](Index j) {
+      return fluid.pressure[j] * inv_reference / (fluid.density[j] * fluid.density[j]);
     };
-    const Real ti = pressure_term(i);
-    Vec3 a = -ti * nb.boundary_gradient_sum[i];
-    nb.fluid.for_each(
-        i, [&](Index j, Index k) { a -= (ti + pressure_term(j)) * nb.fluid.gradient[k]; });
+    const Real ki = kappa(i);
+    Vec3 a = -ki * nb.boundary_gradient_sum[i];
+    nb.fluid.for_each(i, [&](Index j, Index k) { a -= (ki + kappa(j)) * nb.fluid.gradient[k]; });
+    a *= reference_density_ / fluid.rest_density[i];
     fluid.acceleration[i] += a;
   }
 #pragma omp parallel for schedule(dynamic, 64)

@@ -27,7 +27,8 @@ Lattice random_lattice() {
   std::mt19937 rng(3);
   std::normal_distribution<Real> n(0, 1);
   for (const Vec3& p : lattice_points(Vec3(0, 0, 0), Vec3(0.8f, 0.8f, 0.8f), 2 * r))
-    l.fluid.add(p, Vec3(n(rng), n(rng), n(rng)), volume, 1000, ParticleType::kWater);
+    l.fluid.add(p, Vec3(n(rng), n(rng), n(rng)), volume,
+                mix_phases(0, 1000, Real(0.05), 940, Real(0.2)));
   const Aabb domain{Vec3::Constant(-h), Vec3::Constant(Real(0.8) + h)};
   l.neighbourhood =
       std::make_unique<ParticleNeighbourhood>(domain, KernelKind::kCubicSpline, h, l.boundary);
@@ -67,7 +68,7 @@ void expect_conserving_and_smoothing(NonPressureForce& force, Real dt) {
 }
 
 TEST(Forces, ViscosityConservesMomentumAndSmooths) {
-  ViscosityForce viscosity(Real(0.05), 0);
+  ViscosityForce viscosity(0);  // the particles' own viscosity, 0.05 m^2/s
   expect_conserving_and_smoothing(viscosity, Real(0.01));
 }
 

@@ -32,7 +32,7 @@ HydrostaticResult run_hydrostatic(const std::vector<std::string>& overrides) {
   const FluidParticles& fluid = sim.fluid();
   const double r = double(scene.config.particle_radius);
   const double g = -double(scene.config.gravity[2]);
-  const double rho0 = double(scene.config.fluid.density);
+  const double rho0 = double(scene.config.materials.water.density);
   // The free surface: the top particle layer's centres plus one radius.
   double top = -1e9;
   for (Index i = 0; i < fluid.active_count(); ++i)

@@ -79,6 +79,9 @@ TEST(RunOutputs, WritesTheDataContract) {
   auto active = inspect(file, "00000/active");
   EXPECT_EQ(active.dims, (std::vector<hsize_t>{frames, n}));
   EXPECT_EQ(active.type_size, 1u);
+  auto fraction = inspect(file, "00000/volume_fraction");
+  EXPECT_EQ(fraction.dims, (std::vector<hsize_t>{frames, n}));
+  EXPECT_EQ(fraction.type_class, H5T_FLOAT);
   auto boundary = inspect(file, "00000/boundary_position");
   EXPECT_EQ(boundary.dims.size(), 2u);
   EXPECT_EQ(boundary.dims[1], 3u);

@@ -73,8 +73,8 @@ TEST(Scene, DefaultsAreFilledIn) {
 
 TEST(Scene, UnknownKeyIsAnError) {
   auto j = minimal_scene();
-  j["fluid"] = {{"viscosityy", 0.1}};
-  expect_error(j, "/fluid/viscosityy", "unknown key");
+  j["materials"] = {{"water", {{"viscosityy", 0.1}}}};
+  expect_error(j, "/materials/water/viscosityy", "unknown key");
   j = minimal_scene();
   j["boxes"][0]["colour"] = "red";
   expect_error(j, "/boxes/0/colour", "unknown key");
@@ -97,8 +97,8 @@ TEST(Scene, WrongTypeIsAnError) {
 
 TEST(Scene, OutOfRangeIsAnError) {
   auto j = minimal_scene();
-  j["fluid"] = {{"viscosity", -0.1}};
-  expect_error(j, "/fluid/viscosity", "expected >= 0, got -0.1");
+  j["materials"] = {{"oil", {{"viscosity", -0.1}}}};
+  expect_error(j, "/materials/oil/viscosity", "expected >= 0, got -0.1");
   j = minimal_scene();
   j["particle_radius"] = 0;
   expect_error(j, "/particle_radius", "expected > 0, got 0");
@@ -113,6 +113,17 @@ TEST(Scene, OutOfRangeIsAnError) {
   expect_error(j, "/time_step/dt_min", "expected <= dt_max");
 }
 
+TEST(Scene, FractionsMustSumToOne) {
+  auto j = minimal_scene();
+  j["fluid_blocks"][0]["fractions"] = {{"water", 0.5}, {"oil", 0.6}};
+  expect_error(j, "/fluid_blocks/0/fractions", "expected volume fractions that sum to 1");
+  j["fluid_blocks"][0]["fractions"] = {{"water", 0.3}, {"oil", 0.7}};
+  EXPECT_FLOAT_EQ(parse_scene(j, "test.json").config.fluid_blocks[0].oil_fraction(), 0.7f);
+  j = minimal_scene();
+  j["fluid_blocks"][0]["material"] = "tar";
+  expect_error(j, "/fluid_blocks/0/material", "expected one of [water, oil]");
+}
+
 TEST(Scene, MissingRequiredKeyIsAnError) {
   auto j = minimal_scene();
   j.erase("particle_radius");
@@ -124,10 +135,11 @@ TEST(Scene, MissingRequiredKeyIsAnError) {
 
 TEST(Scene, SetOverridesAValueBeforeValidation) {
   const LoadedScene s =
-      load_scene(kScenes + "/dam_break.json", {"/solver=wcsph", "/fluid/viscosity=0.02"});
+      load_scene(kScenes + "/dam_break.json", {"/solver=wcsph", "/materials/water/viscosity=0.02"});
   EXPECT_EQ(s.config.solver, "wcsph");
-  EXPECT_FLOAT_EQ(s.config.fluid.viscosity, 0.02f);
-  EXPECT_THROW(load_scene(kScenes + "/dam_break.json", {"/fluid/viscosity=-1"}), ConfigError);
+  EXPECT_FLOAT_EQ(s.config.materials.water.viscosity, 0.02f);
+  EXPECT_THROW(load_scene(kScenes + "/dam_break.json", {"/materials/water/viscosity=-1"}),
+               ConfigError);
   EXPECT_THROW(load_scene(kScenes + "/dam_break.json", {"/nonsense=1"}), ConfigError);
   EXPECT_THROW(load_scene(kScenes + "/dam_break.json", {"solver"}), ConfigError);
 }
@@ -154,7 +166,7 @@ TEST(Scene, ExecutableReportsBadSceneAndWritesNothing) {
   fs::remove_all(dir);
   fs::create_directories(dir);
   auto j = minimal_scene();
-  j["fluid"] = {{"viscosity", -0.1}};
+  j["materials"] = {{"water", {{"viscosity", -0.1}}}};
   std::ofstream(dir / "bad.json") << j.dump();
   const std::string cmd = std::string(SPILL_SIM_EXE) + " run --scene " +
                           (dir / "bad.json").string() + " --out " + (dir / "out").string() +
@@ -164,7 +176,8 @@ TEST(Scene, ExecutableReportsBadSceneAndWritesNothing) {
   std::ifstream err(dir / "err.txt");
   const std::string message((std::istreambuf_iterator<char>(err)),
                             std::istreambuf_iterator<char>());
-  EXPECT_NE(message.find("bad.json:/fluid/viscosity: expected >= 0, got -0.1"), std::string::npos)
+  EXPECT_NE(message.find("bad.json:/materials/water/viscosity: expected >= 0, got -0.1"),
+            std::string::npos)
       << message;
   EXPECT_FALSE(fs::exists(dir / "out"));
   fs::remove_all(dir);
