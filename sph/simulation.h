@@ -3,6 +3,7 @@
 // solver, non-pressure forces, clock and time-step policy. Nothing global: two simulations can
 // run side by side.
 
+#include <limits>
 #include <memory>
 #include <vector>
 
@@ -74,6 +75,7 @@ class Simulation : private SolverHost {
   std::unique_ptr<PressureSolver> solver_;
   std::vector<std::unique_ptr<NonPressureForce>> forces_;
   TimeSplit time_split_;
+  Real viscous_dt_limit_ = std::numeric_limits<Real>::infinity();
   double time_ = 0;
   double step_end_ = 0;  // time the current advance_to() must end on
   long steps_ = 0;
