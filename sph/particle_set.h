@@ -37,6 +37,10 @@ struct FluidParticles {
   Index active = 0;       // number of active particles (they come first)
 
   Index size() const { return static_cast<Index>(position.size()); }
+  // (rho_i + rho_j) / 2 in kg/m^3: pair terms divided by it are equal and opposite.
+  Real pair_mean_density(Index i, Index j) const {
+    return Real(0.5) * (rest_density[i] * density[i] + rest_density[j] * density[j]);
+  }
   Index active_count() const { return active; }
 
   // Appends an active particle; its identity is the next free number.

@@ -195,8 +195,9 @@ nlohmann::json run_scene(const LoadedScene& scene, const RunOptions& options) {
   auto record = [&](int frame) {
     std::vector<std::uint8_t> active(sim.fluid().size(), 0);
     for (Index i = 0; i < sim.fluid().active_count(); ++i) active[sim.fluid().id[i]] = 1;
-    writer.append(sim.time(), sim.positions_by_id(), sim.velocities_by_id(), active,
-                  sim.oil_fractions_by_id());
+    const FluidParticles& f = sim.fluid();
+    writer.append(sim.time(), sim.in_id_order(f.position), sim.in_id_order(f.velocity), active,
+                  sim.in_id_order(f.oil_fraction));
     if (options.ply)
       write_ply((staging.path / "ply" / frame_file("fluid", frame, "ply")).string(),
                 fluid_points(sim));

@@ -173,25 +173,4 @@ double Simulation::kinetic_energy() const {
   return e;
 }
 
-std::vector<Vec3> Simulation::positions_by_id() const {
-  std::vector<Vec3> out(fluid_.size());
-  for (Index i = 0; i < fluid_.size(); ++i) out[fluid_.id[i]] = fluid_.position[i];
-  return out;
-}
-std::vector<Vec3> Simulation::velocities_by_id() const {
-  std::vector<Vec3> out(fluid_.size());
-  for (Index i = 0; i < fluid_.size(); ++i) out[fluid_.id[i]] = fluid_.velocity[i];
-  return out;
-}
-std::vector<Real> Simulation::oil_fractions_by_id() const {
-  std::vector<Real> out(fluid_.size());
-  for (Index i = 0; i < fluid_.size(); ++i) out[fluid_.id[i]] = fluid_.oil_fraction[i];
-  return out;
-}
-std::vector<Real> Simulation::pressures_by_id() const {
-  std::vector<Real> out(fluid_.size());
-  for (Index i = 0; i < fluid_.size(); ++i) out[fluid_.id[i]] = fluid_.pressure[i];
-  return out;
-}
-
 }  // namespace sph

@@ -48,11 +48,14 @@ class Simulation : private SolverHost {
   const TimeSplit& timing() const { return time_split_; }
   double kinetic_energy() const;  // J, of the active fluid
 
-  // Identity-ordered copies (index = particle id) for writers.
-  std::vector<Vec3> positions_by_id() const;
-  std::vector<Vec3> velocities_by_id() const;
-  std::vector<Real> pressures_by_id() const;
-  std::vector<Real> oil_fractions_by_id() const;
+  // A per-particle array of fluid() in identity order (index = particle id), for writers:
+  // e.g. in_id_order(fluid().position).
+  template <class T>
+  std::vector<T> in_id_order(const std::vector<T>& per_particle) const {
+    std::vector<T> out(fluid_.size());
+    for (Index i = 0; i < fluid_.size(); ++i) out[fluid_.id[i]] = per_particle[i];
+    return out;
+  }
 
  private:
   // SolverHost

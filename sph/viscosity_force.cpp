@@ -21,8 +21,7 @@ void ViscosityForce::add_acceleration(FluidParticles& fluid, const BoundaryParti
         // m_j / rho_ij with the pair's mean density rho_ij, so that the force on i from j is
         // exactly opposite to the force on j from i (m_i m_j / rho_ij is symmetric) and momentum
         // is conserved also where densities differ (free surface); gradient[k] carries V_j.
-        const Real mean_density = Real(0.5) * (fluid.rest_density[i] * fluid.density[i] +
-                                               fluid.rest_density[j] * fluid.density[j]);
+        const Real mean_density = fluid.pair_mean_density(i, j);
         const Real nu = fluid.viscosity[i] + fluid.viscosity[j];
         a += (c * nu * fluid.rest_density[j] * (v[i] - v[j]).dot(xij) /
               ((xij.squaredNorm() + eps) * mean_density)) *

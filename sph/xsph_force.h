@@ -22,8 +22,7 @@ class XsphForce : public NonPressureForce {
       const Index i = Index(li);
       Vec3 dv = Vec3::Zero();
       nb.fluid.for_each(i, [&](Index j, Index k) {
-        const Real mean_density = Real(0.5) * (fluid.rest_density[i] * fluid.density[i] +
-                                               fluid.rest_density[j] * fluid.density[j]);
+        const Real mean_density = fluid.pair_mean_density(i, j);
         dv += (fluid.rest_density[j] * fluid.rest_volume[j] / mean_density * nb.fluid.value[k]) *
               (v[j] - v[i]);
       });
