@@ -1,6 +1,8 @@
 #include "sph/particle_set.h"
 
 #include <cassert>
+#include <stdexcept>
+#include <string>
 
 namespace sph {
 
@@ -14,7 +16,8 @@ PhaseMix mix_phases(Real oil_fraction, Real water_density, Real water_viscosity,
   return m;
 }
 
-void FluidParticles::add(const Vec3& x, const Vec3& v, Real volume, const PhaseMix& mix) {
+void FluidParticles::add(const Vec3& x, const Vec3& v, Real volume, const PhaseMix& mix,
+                         bool is_active) {
   // New particles are active: they go right after the last active one, so an inactive particle
   // at that slot (if any) moves to the end.
   const Index n = size();
@@ -29,16 +32,39 @@ void FluidParticles::add(const Vec3& x, const Vec3& v, Real volume, const PhaseM
   oil_fraction.push_back(mix.oil_fraction);
   type.push_back(mix.type);
   id.push_back(n);
-  if (active != n) {
-    std::swap(position[active], position[n]);
-    std::swap(velocity[active], velocity[n]);
-    std::swap(rest_volume[active], rest_volume[n]);
-    std::swap(rest_density[active], rest_density[n]);
-    std::swap(viscosity[active], viscosity[n]);
-    std::swap(oil_fraction[active], oil_fraction[n]);
-    std::swap(type[active], type[n]);
-    std::swap(id[active], id[n]);
-  }
+  if (!is_active) return;
+  if (active != n) swap_slots(active, n);
+  ++active;
+}
+
+void FluidParticles::swap_slots(Index a, Index b) {
+  std::swap(position[a], position[b]);
+  std::swap(velocity[a], velocity[b]);
+  std::swap(acceleration[a], acceleration[b]);
+  std::swap(density[a], density[b]);
+  std::swap(pressure[a], pressure[b]);
+  std::swap(rest_volume[a], rest_volume[b]);
+  std::swap(rest_density[a], rest_density[b]);
+  std::swap(viscosity[a], viscosity[b]);
+  std::swap(oil_fraction[a], oil_fraction[b]);
+  std::swap(type[a], type[b]);
+  std::swap(id[a], id[b]);
+}
+
+Index FluidParticles::find_inactive(Index wanted) const {
+  for (Index slot = active; slot < size(); ++slot)
+    if (id[slot] == wanted) return slot;
+  throw std::logic_error("particle " + std::to_string(wanted) + " is not inactive");
+}
+
+void FluidParticles::activate(Index slot, const Vec3& x, const Vec3& v) {
+  assert(slot >= active && slot < size());
+  swap_slots(slot, active);
+  position[active] = x;
+  velocity[active] = v;
+  acceleration[active].setZero();
+  density[active] = 1;
+  pressure[active] = 0;
   ++active;
 }
 

@@ -43,8 +43,15 @@ struct FluidParticles {
   }
   Index active_count() const { return active; }
 
-  // Appends an active particle; its identity is the next free number.
-  void add(const Vec3& x, const Vec3& v, Real volume, const PhaseMix& mix);
+  // Appends a particle; its identity is the next free number. An active one goes right after the
+  // last active particle, an inactive one at the end.
+  void add(const Vec3& x, const Vec3& v, Real volume, const PhaseMix& mix, bool is_active = true);
+  // Slot of the inactive particle with identity `id` (a linear scan of the inactive tail).
+  Index find_inactive(Index id) const;
+  // Moves the inactive particle at `slot` to the end of the active range, with a new state.
+  void activate(Index slot, const Vec3& x, const Vec3& v);
+  // Exchanges every per-particle value of two slots.
+  void swap_slots(Index a, Index b);
 
   // Reorders every array so that new index k holds old particle order[k]. `order` must be a
   // permutation of [0, active_count()) (inactive particles keep their place).

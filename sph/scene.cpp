@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <fstream>
+#include <limits>
 #include <sstream>
 
 #include "sph/config_error.h"
@@ -55,8 +56,18 @@ void check_consistency(const SceneConfig& s, const std::string& file) {
                         "expected volume fractions that sum to 1, got water " +
                             std::to_string(f->water) + " + oil " + std::to_string(f->oil));
   }
-  if (s.fluid_blocks.empty())
-    throw ConfigError(file, "/fluid_blocks", "expected at least one fluid block");
+  for (size_t i = 0; i < s.emitters.size(); ++i) {
+    const auto& e = s.emitters[i];
+    const std::string ptr = "/emitters/" + std::to_string(i);
+    if (!(e.stop > e.start))
+      throw ConfigError(
+          file, ptr + "/stop",
+          "expected stop > start (" + std::to_string(e.start) + "), got " + std::to_string(e.stop));
+    if (!(e.direction.norm() > 0))
+      throw ConfigError(file, ptr + "/direction", "expected a non-zero direction");
+  }
+  if (s.fluid_blocks.empty() && s.emitters.empty())
+    throw ConfigError(file, "/fluid_blocks", "expected at least one fluid block or emitter");
   if (s.domain) {
     for (size_t i = 0; i < s.fluid_blocks.size(); ++i) {
       const auto& b = s.fluid_blocks[i];
@@ -68,6 +79,35 @@ void check_consistency(const SceneConfig& s, const std::string& file) {
   }
 }
 
+// The region the scene's geometry spans: /domain if given, else the bounding box of boxes,
+// height fields and fluid blocks (Simulation grows it by a support radius).
+Aabb geometry_bounds(const SceneConfig& s) {
+  if (s.domain) return Aabb{s.domain->min, s.domain->max};
+  Aabb b{Vec3::Constant(std::numeric_limits<Real>::max()),
+         Vec3::Constant(std::numeric_limits<Real>::lowest())};
+  auto grow = [&](const Vec3& p) {
+    b.min = b.min.cwiseMin(p);
+    b.max = b.max.cwiseMax(p);
+  };
+  for (const auto& box : s.boxes) grow(box.min), grow(box.max);
+  for (const auto& block : s.fluid_blocks) grow(block.min), grow(block.max);
+  for (const auto& f : s.height_fields) {
+    for (const auto& row : f.heights)
+      for (Real z : row) grow(Vec3(f.origin[0], f.origin[1], z));
+    grow(Vec3(f.origin[0] + f.cell_size * Real(f.heights[0].size() - 1),
+              f.origin[1] + f.cell_size * Real(f.heights.size() - 1), f.origin[2]));
+  }
+  return b;
+}
+
+void check_emitters_inside(const SceneConfig& s, const std::string& file) {
+  const Aabb bounds = geometry_bounds(s);
+  for (size_t i = 0; i < s.emitters.size(); ++i)
+    if (!bounds.contains(s.emitters[i].centre))
+      throw ConfigError(file, "/emitters/" + std::to_string(i) + "/centre",
+                        "the emitter lies outside the domain spanned by the scene's geometry");
+}
+
 }  // namespace
 
 LoadedScene parse_scene(nlohmann::json j, const std::string& file) {
@@ -75,6 +115,7 @@ LoadedScene parse_scene(nlohmann::json j, const std::string& file) {
   out.file = file;
   JsonReader::read_struct(j, file, "", out.config);
   check_consistency(out.config, file);
+  check_emitters_inside(out.config, file);
   out.resolved = JsonWriter::write_struct(out.config);
   return out;
 }

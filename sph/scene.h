@@ -177,6 +177,39 @@ struct FluidBlockConfig {
   }
 };
 
+// A source of fluid: a disc or rectangle that releases layers of particles along `direction`
+// at `speed`, `rate` cubic metres per second from `start` to `stop` (the reusable element for
+// vessel inflows and pipeline leaks).
+struct EmitterConfig {
+  std::string shape = "disc";
+  Vec3 centre = Vec3::Zero();
+  Vec3 direction = Vec3(0, 0, -1);
+  Real radius = Real(0.05);
+  Real width = Real(0.1);
+  Real height = Real(0.1);
+  Real speed = 1;
+  Real rate = 0;
+  Real start = 0;
+  Real stop = 0;
+  std::string material = "water";
+  template <class V>
+  void describe(V& v) {
+    v.field("shape", shape, param("", "Outlet shape").one_of({"disc", "rectangle"}));
+    v.field("centre", centre, param("m", "Centre of the outlet").require());
+    v.field("direction", direction, param("", "Direction of the outflow (normalised on use)"));
+    v.field("radius", radius, param("m", "Disc radius").positive());
+    v.field(
+        "width", width,
+        param("m", "Rectangle side along the horizontal perpendicular of `direction`").positive());
+    v.field("height", height, param("m", "Rectangle side along the third axis").positive());
+    v.field("speed", speed, param("m/s", "Outflow speed").positive());
+    v.field("rate", rate, param("m^3/s", "Volume flow rate").positive().require());
+    v.field("start", start, param("s", "When the outflow starts").non_negative());
+    v.field("stop", stop, param("s", "When it stops").positive().require());
+    v.field("material", material, param("", "Phase released").one_of({"water", "oil"}));
+  }
+};
+
 struct DomainConfig {
   Vec3 min = Vec3::Zero();
   Vec3 max = Vec3::Zero();
@@ -217,6 +250,7 @@ struct SceneConfig {
   std::vector<BoxConfig> boxes;
   std::vector<HeightFieldConfig> height_fields;
   std::vector<FluidBlockConfig> fluid_blocks;
+  std::vector<EmitterConfig> emitters;
   std::optional<DomainConfig> domain;
 
   Real particle_diameter() const { return 2 * particle_radius; }
@@ -254,6 +288,7 @@ struct SceneConfig {
                   "Terrain surfaces sampled with boundary "
                   "particles"));
     v.field("fluid_blocks", fluid_blocks, param("", "Blocks filled with fluid particles"));
+    v.field("emitters", emitters, param("", "Sources that release fluid over time"));
     v.field("domain", domain,
             param("",
                   "Simulation domain; particles leaving it stop the run (default: the "

@@ -38,6 +38,18 @@ Simulation::Simulation(const SceneConfig& scene)
       fluid_.add(p, block.velocity, volume, mix);
   }
 
+  for (size_t k = 0; k < scene_.emitters.size(); ++k) {
+    const EmitterConfig& e = scene_.emitters[k];
+    try {
+      emitters_.emplace_back(e, spacing, volume,
+                             mix_phases(e.material == "oil" ? 1 : 0, m.water.density,
+                                        m.water.viscosity, m.oil.density, m.oil.viscosity));
+    } catch (const std::invalid_argument& error) {
+      throw SimulationError("emitter " + std::to_string(k) + ": " + error.what());
+    }
+    emitters_.back().allocate(fluid_);
+  }
+
   if (scene_.domain) {
     domain_ = Aabb{scene_.domain->min, scene_.domain->max};
   } else {
@@ -64,10 +76,16 @@ Simulation::Simulation(const SceneConfig& scene)
   Real nu_max = scene_.boundary.friction;  // of the particles present, not of unused materials
   for (Real nu : fluid_.viscosity) nu_max = std::max(nu_max, nu);
   if (nu_max > 0) viscous_dt_limit_ = Real(0.125) * spacing * spacing / nu_max;
-  for (Index i = 0; i < fluid_.size(); ++i)
+  for (Index i = 0; i < fluid_.active_count(); ++i)
     if (!domain_.contains(fluid_.position[i]))
       throw SimulationError("fluid particle " + std::to_string(i) + " at " +
                             format_vec(fluid_.position[i]) + " starts outside the domain");
+  for (size_t k = 0; k < emitters_.size(); ++k)
+    for (const Vec3& p : emitters_[k].layer())
+      if (!domain_.contains(p))
+        throw SimulationError("emitter " + std::to_string(k) + ": its outlet reaches " +
+                              format_vec(p) + ", outside the domain [" + format_vec(domain_.min) +
+                              ", " + format_vec(domain_.max) + "]");
 }
 
 void Simulation::update_neighbourhood() {
@@ -141,6 +159,7 @@ FrameStats Simulation::advance_to(double t_end, int frame) {
   double err_sum = 0, it_density = 0, it_divergence = 0;
   while (time_ < t_end - eps) {
     const auto t0 = std::chrono::steady_clock::now();
+    for (auto& emitter : emitters_) emitter.emit(fluid_, time_);
     StepStats step;
     solver_->step(*this, step);
     time_ += double(step.dt);

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "sph/boundary.h"
+#include "sph/emitter.h"
 #include "sph/lattice.h"
 #include "sph/neighbourhood.h"
 #include "sph/non_pressure_force.h"
@@ -46,6 +47,7 @@ class Simulation : private SolverHost {
   const BoundaryParticles& boundary() const { return boundary_; }
   const Aabb& domain() const { return domain_; }
   const TimeSplit& timing() const { return time_split_; }
+  const std::vector<Emitter>& emitters() const { return emitters_; }
   double kinetic_energy() const;  // J, of the active fluid
 
   // A per-particle array of fluid() in identity order (index = particle id), for writers:
@@ -77,6 +79,7 @@ class Simulation : private SolverHost {
   std::unique_ptr<ParticleNeighbourhood> neighbourhood_;
   std::unique_ptr<PressureSolver> solver_;
   std::vector<std::unique_ptr<NonPressureForce>> forces_;
+  std::vector<Emitter> emitters_;
   TimeSplit time_split_;
   Real viscous_dt_limit_ = std::numeric_limits<Real>::infinity();
   double time_ = 0;
