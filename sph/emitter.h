@@ -26,8 +26,6 @@ class Emitter {
   void emit(FluidParticles& fluid, double t);
 
   Index capacity() const { return Index(layer_.size()) * layers_; }
-  Index emitted() const { return Index(layer_.size()) * emitted_layers_; }
-  double interval() const { return interval_; }
   const std::vector<Vec3>& layer() const { return layer_; }  // outlet points, world coordinates
 
  private:

@@ -18,18 +18,14 @@ NeighbourGrid::NeighbourGrid(const Aabb& domain, Real radius)
   cell_start_.assign(size_t(nx_ * ny_ * nz_ + 1), 0);
 }
 
-std::int64_t NeighbourGrid::cell_of(const Vec3& p, bool clamp) const {
+std::int64_t NeighbourGrid::cell_of(const Vec3& p) const {
   const Vec3 rel = (p - domain_.min) * inv_cell_;
   std::int64_t c[3];
   const std::int64_t n[3] = {nx_, ny_, nz_};
   for (int k = 0; k < 3; ++k) {
     // NaN compares false, so it is caught here as well.
-    if (!(rel[k] >= 0 && rel[k] <= Real(n[k]))) {
-      if (!clamp) return -1;
-      c[k] = rel[k] > 0 ? n[k] - 1 : 0;
-    } else {
-      c[k] = std::min<std::int64_t>(std::int64_t(rel[k]), n[k] - 1);
-    }
+    if (!(rel[k] >= 0 && rel[k] <= Real(n[k]))) return -1;
+    c[k] = std::min<std::int64_t>(std::int64_t(rel[k]), n[k] - 1);
   }
   return (c[2] * ny_ + c[1]) * nx_ + c[0];
 }
@@ -39,7 +35,7 @@ void NeighbourGrid::build(const Vec3* points, Index count) {
   point_cell_.resize(count);
   std::fill(cell_start_.begin(), cell_start_.end(), 0);
   for (Index i = 0; i < count; ++i) {
-    const std::int64_t c = cell_of(points[i], false);
+    const std::int64_t c = cell_of(points[i]);
     if (c < 0) throw PointOutsideDomain(i, points[i]);
     point_cell_[i] = Index(c);
     ++cell_start_[size_t(c) + 1];
@@ -50,9 +46,9 @@ void NeighbourGrid::build(const Vec3* points, Index count) {
   sorted_y_.resize(count);
   sorted_z_.resize(count);
   // Counting sort; stable, so the result is deterministic.
-  std::vector<Index> fill(cell_start_.begin(), cell_start_.end() - 1);
+  cell_fill_.assign(cell_start_.begin(), cell_start_.end() - 1);
   for (Index i = 0; i < count; ++i) {
-    const Index slot = fill[point_cell_[i]]++;
+    const Index slot = cell_fill_[point_cell_[i]]++;
     sorted_index_[slot] = i;
     sorted_x_[slot] = points[i][0];
     sorted_y_[slot] = points[i][1];

@@ -68,7 +68,8 @@ class NeighbourGrid {
   void for_each_near(const Vec3& x, F&& f) const;
 
  private:
-  std::int64_t cell_of(const Vec3& p, bool clamp) const;
+  // Cell index of p, or -1 when p lies outside the domain (or is NaN).
+  std::int64_t cell_of(const Vec3& p) const;
 
   Aabb domain_;
   Real radius_ = 0;
@@ -79,7 +80,8 @@ class NeighbourGrid {
   std::vector<Index> sorted_index_;                   // built points by cell
   std::vector<Real> sorted_x_, sorted_y_, sorted_z_;  // their coordinates, for contiguous scans
   std::vector<Index> point_cell_;                     // scratch: cell of each built point
-  std::vector<std::vector<Index>> chunk_buffers_;     // reused across calls
+  std::vector<Index> cell_fill_;  // scratch: next free slot of each cell in the counting sort
+  std::vector<std::vector<Index>> chunk_buffers_;  // reused across calls
   std::vector<size_t> chunk_used_;
 };
 

@@ -44,8 +44,6 @@ class ParticleNeighbourhood {
 
   KernelKind kernel() const { return kernel_; }
   Real support_radius() const { return support_radius_; }
-  Real kernel_at_zero() const { return w_zero_; }
-  Real boundary_volume(Index b) const { return boundary_volume_[b]; }
 
   PairTable fluid;     // fluid-fluid pairs
   PairTable boundary;  // fluid-boundary pairs

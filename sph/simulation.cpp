@@ -145,7 +145,8 @@ void Simulation::check_state(int frame) const {
 void Simulation::reorder_by_cell() {
   // cell_order() is from the last neighbour search, before the last advection; it is still a
   // good locality order, and any permutation is correct.
-  const std::vector<Index> order = neighbourhood_->cell_order();
+  // Permuting the particles leaves the neighbourhood, and so `order`, untouched.
+  const std::vector<Index>& order = neighbourhood_->cell_order();
   if (order.size() != fluid_.active_count()) return;
   fluid_.permute(order);
   solver_->permute(order);

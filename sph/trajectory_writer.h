@@ -33,7 +33,6 @@ class TrajectoryWriter {
               const std::vector<std::uint8_t>& active, const std::vector<Real>& oil_fraction);
   // Flushes and closes; the destructor closes too, but only close() reports errors.
   void close();
-  std::int64_t frames() const { return frames_; }
 
  private:
   std::int64_t create_growing(const char* name, int rank,
