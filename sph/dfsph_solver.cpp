@@ -151,6 +151,7 @@ void DfsphSolver::step(SolverHost& host, StepStats& stats) {
   host.update_neighbourhood();
   const ParticleNeighbourhood& nb = host.neighbourhood();
   const long n = long(fluid.active_count());
+  after_neighbour_search(host);
 
   auto t0 = std::chrono::steady_clock::now();
   for (long i = 0; i < n; ++i)
@@ -164,6 +165,7 @@ void DfsphSolver::step(SolverHost& host, StepStats& stats) {
 
   const Real dt = host.choose_time_step(std::numeric_limits<Real>::infinity());
   host.compute_non_pressure_accelerations(dt);
+  after_non_pressure_forces(host, dt);
 #pragma omp parallel for schedule(dynamic, 64)
   for (long i = 0; i < n; ++i) fluid.velocity[size_t(i)] += dt * fluid.acceleration[size_t(i)];
 
@@ -182,6 +184,7 @@ void DfsphSolver::step(SolverHost& host, StepStats& stats) {
   }
   stats.dt = dt;
   last_dt_ = dt;
+  after_advection(host, dt);
 }
 
 }  // namespace sph

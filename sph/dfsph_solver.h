@@ -35,6 +35,15 @@ class DfsphSolver : public PressureSolver {
   void step(SolverHost& host, StepStats& stats) override;
   void permute(const std::vector<Index>& order) override;
 
+ protected:
+  // Points where a solver built on DFSPH (MTDF-SPH) adds its own work to the step.
+  // After the neighbour search, before the factors.
+  virtual void after_neighbour_search(SolverHost&) {}
+  // After the non-pressure accelerations of step dt, before they change the velocities.
+  virtual void after_non_pressure_forces(SolverHost&, Real /*dt*/) {}
+  // At the end of the step, after the positions moved by dt.
+  virtual void after_advection(SolverHost&, Real /*dt*/) {}
+
  private:
   void compute_factors(const FluidParticles& fluid, const ParticleNeighbourhood& nb);
   int solve_divergence(FluidParticles& fluid, const ParticleNeighbourhood& nb, Real dt);

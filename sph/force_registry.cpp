@@ -1,5 +1,6 @@
 #include "sph/gravity_force.h"
 #include "sph/non_pressure_force.h"
+#include "sph/surface_tension_force.h"
 #include "sph/viscosity_force.h"
 #include "sph/xsph_force.h"
 
@@ -11,6 +12,11 @@ std::vector<std::unique_ptr<NonPressureForce>> make_non_pressure_forces(const Sc
   const MaterialsConfig& m = scene.materials;
   if (m.water.viscosity > 0 || m.oil.viscosity > 0 || scene.boundary.friction > 0)
     forces.push_back(std::make_unique<ViscosityForce>(scene.boundary.friction));
+  // Surface tension belongs to MTDF-SPH: plain DFSPH on the same scene is the comparison.
+  if (scene.solver == "mtdf")
+    forces.push_back(std::make_unique<SurfaceTensionForce>(
+        scene.surface_tension, scene.particle_diameter(), scene.support_radius(),
+        scene.materials.water.density));
   if (scene.xsph > 0) forces.push_back(std::make_unique<XsphForce>(scene.xsph));
   return forces;
 }

@@ -44,6 +44,7 @@ class ParticleNeighbourhood {
 
   KernelKind kernel() const { return kernel_; }
   Real support_radius() const { return support_radius_; }
+  Real kernel_at_zero() const { return w_zero_; }  // W(0), a particle's own share of its sums
 
   PairTable fluid;     // fluid-fluid pairs
   PairTable boundary;  // fluid-boundary pairs

@@ -81,6 +81,67 @@ struct WcsphConfig {
   }
 };
 
+// The mixture model of MTDF-SPH (solver `mtdf`): Ren, Li, Yan, Lin, Hu, "Multiple-Fluid SPH
+// Simulation Using a Mixture Model", ACM TOG 33(5), 2014. Phases move relative to the mixture
+// with drift velocities; the volume fractions follow them.
+struct MixtureConfig {
+  Real drift_tau = Real(1e-3);
+  Real diffusion_sigma = Real(1e-4);
+  bool pressure_term = false;
+  template <class V>
+  void describe(V& v) {
+    v.field("drift_tau", drift_tau,
+            param("m^3 s/kg",
+                  "tau of the slip term: a phase drifts at tau (rho_k - rho_c) (g - Dv/Dt) "
+                  "relative to the mixture (buoyancy and inertia); larger separates faster")
+                .non_negative()
+                .at_most(1));
+    v.field("diffusion_sigma", diffusion_sigma,
+            param("m^2/s",
+                  "sigma of the diffusion term: volume fractions spread down their gradients; "
+                  "small keeps oil and water separate")
+                .non_negative()
+                .at_most(1));
+    v.field("pressure_term", pressure_term,
+            param("",
+                  "Include Ren's phase-pressure term -tau (grad p_k - sum c_k grad p_k) with "
+                  "p_k = alpha_k p; its p grad(alpha) part diffuses the phases at a rate tau p, "
+                  "which at depth mixes them, so it is off by default"));
+  }
+};
+
+// Modified cosine-force surface tension of MTDF-SPH: the pair force
+// s cos(3 pi r / (2 h)) W(r) along x_i - x_j (repulsive for r < h/3, attractive beyond), with a
+// strength s for like phases, unlike phases and fluid-boundary pairs (wetting).
+struct SurfaceTensionConfig {
+  Real like = 20;
+  Real unlike = -20;
+  Real boundary = 0;
+  bool surface_only = true;
+  Real surface_neighbour_fraction = Real(0.8);
+  template <class V>
+  void describe(V& v) {
+    v.field("like", like,
+            param("m/s^2", "Strength s between particles of the same phase (> 0: cohesion)"));
+    v.field("unlike", unlike,
+            param("m/s^2",
+                  "Strength s between oil and water (< 0: repulsion at the pair distance, which "
+                  "keeps the phases apart)"));
+    v.field("boundary", boundary,
+            param("m/s^2", "Strength s between fluid and boundary (> 0: wetting)"));
+    v.field("surface_only", surface_only,
+            param("",
+                  "Apply the force to free-surface and oil-water interface particles only (as "
+                  "the MTDF-SPH paper does); false: to every particle"));
+    v.field("surface_neighbour_fraction", surface_neighbour_fraction,
+            param("",
+                  "A particle with fewer neighbours than this fraction of a full neighbourhood "
+                  "is at the free surface")
+                .positive()
+                .at_most(1));
+  }
+};
+
 struct FluidMaterialConfig {
   Real density = 1000;
   Real viscosity = Real(0.01);
@@ -246,6 +307,8 @@ struct SceneConfig {
   BoundaryConfig boundary;
   DfsphConfig dfsph;
   WcsphConfig wcsph;
+  MixtureConfig mixture;
+  SurfaceTensionConfig surface_tension;
   OutputConfig output;
   std::vector<BoxConfig> boxes;
   std::vector<HeightFieldConfig> height_fields;
@@ -281,6 +344,9 @@ struct SceneConfig {
     v.field("boundary", boundary, param("", "Fluid-boundary interaction"));
     v.field("dfsph", dfsph, param("", "DFSPH solver settings"));
     v.field("wcsph", wcsph, param("", "WCSPH solver settings"));
+    v.field("mixture", mixture, param("", "Mixture model (solver mtdf only)"));
+    v.field("surface_tension", surface_tension,
+            param("", "Cosine-force surface tension (solver mtdf only)"));
     v.field("output", output, param("", "Recording"));
     v.field("boxes", boxes, param("", "Boxes sampled with boundary particles"));
     v.field("height_fields", height_fields,

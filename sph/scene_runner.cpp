@@ -63,6 +63,8 @@ nlohmann::json summary_json(const Simulation& sim, double wall_s, double iterati
           {"time_split",
            {{"neighbour_search", t.neighbour_search},
             {"pressure_solve", t.pressure_solve},
+            {"mixture_model", t.mixture_model},
+            {"forces", t.forces},
             {"other", t.other()}}}};
 }
 

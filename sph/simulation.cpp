@@ -123,7 +123,11 @@ void Simulation::compute_non_pressure_accelerations(Real dt) {
   const long n = long(fluid_.active_count());
 #pragma omp parallel for schedule(static)
   for (long i = 0; i < n; ++i) fluid_.acceleration[size_t(i)].setZero();
-  for (auto& force : forces_) force->add_acceleration(fluid_, boundary_, *neighbourhood_, dt);
+  for (auto& force : forces_) {
+    const auto t0 = std::chrono::steady_clock::now();
+    force->add_acceleration(fluid_, boundary_, *neighbourhood_, dt);
+    time_split_.forces[force->name()] += seconds_since(t0);
+  }
 }
 
 void Simulation::check_state(int frame) const {

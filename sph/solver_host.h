@@ -3,6 +3,9 @@
 // time step (DFSPH solves before and after advection, WCSPH only before), the host owns the
 // particles, neighbourhood, forces and time-step policy.
 
+#include <map>
+#include <string>
+
 #include "sph/boundary.h"
 #include "sph/neighbourhood.h"
 #include "sph/particle_set.h"
@@ -11,10 +14,12 @@ namespace sph {
 
 // Wall-clock seconds spent in each part of the simulation.
 struct TimeSplit {
-  double neighbour_search = 0;  // grid, neighbour lists, pair kernels, densities
-  double pressure_solve = 0;    // the pressure solver's own work
-  double total = 0;             // everything in step()
-  double other() const { return total - neighbour_search - pressure_solve; }
+  double neighbour_search = 0;           // grid, neighbour lists, pair kernels, densities
+  double pressure_solve = 0;             // the pressure solver's own work
+  double mixture_model = 0;              // drift, drift momentum and fraction transport (mtdf)
+  std::map<std::string, double> forces;  // each non-pressure force, by name
+  double total = 0;                      // everything in step()
+  double other() const { return total - neighbour_search - pressure_solve - mixture_model; }
 };
 
 // Figures of one solver step.

@@ -3,19 +3,21 @@
 #include <stdexcept>
 
 #include "sph/dfsph_solver.h"
+#include "sph/mtdf_solver.h"
 #include "sph/pressure_solver.h"
 #include "sph/wcsph_solver.h"
 
 namespace sph {
 
 std::vector<std::string> pressure_solver_names() {
-  return {"dfsph", "wcsph"};
+  return {"dfsph", "mtdf", "wcsph"};
 }
 
 std::unique_ptr<PressureSolver> make_pressure_solver(const SceneConfig& scene) {
   if (scene.solver == "dfsph")
     return std::make_unique<DfsphSolver>(scene.dfsph, scene.time_step.dt_max,
                                          scene.materials.water.density);
+  if (scene.solver == "mtdf") return std::make_unique<MtdfSolver>(scene);
   if (scene.solver == "wcsph")
     return std::make_unique<WcsphSolver>(scene.wcsph, scene.particle_diameter(),
                                          scene.time_step.cfl, scene.materials.water.density);

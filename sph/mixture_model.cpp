@@ -1,0 +1,224 @@
+#include "sph/mixture_model.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace sph {
+
+namespace {
+
+// Bound on |g - Dv/Dt| in units of |g|: splashes and impacts reach hundreds of g for a step,
+// which is a numerical transient, not a settling force.
+constexpr Real kMaxSlipInG = 3;
+// A phase fraction below this carries no drift momentum (u_k = J_k / alpha_k is undefined).
+constexpr Real kTinyFraction = Real(1e-4);
+constexpr Index kNoParticle = ~Index(0);
+
+}  // namespace
+
+MixtureModel::MixtureModel(const MixtureConfig& config, const MaterialsConfig& materials,
+                           const Vec3& gravity)
+    : config_(config), materials_(materials), gravity_(gravity) {}
+
+void MixtureModel::resize(size_t size) {
+  if (is_interface_.size() == size) return;
+  is_interface_.resize(size, 0);
+  flux_oil_.resize(size, Vec3::Zero());
+  stress_oil_.resize(size, Vec3::Zero());
+  stress_water_.resize(size, Vec3::Zero());
+  limit_oil_.resize(size, 1);
+  limit_water_.resize(size, 1);
+  step_start_velocity_.resize(size, Vec3::Zero());
+  step_start_id_.resize(size, kNoParticle);
+  rate_id_.resize(size, kNoParticle);
+  velocity_rate_.resize(size, Vec3::Zero());
+}
+
+void MixtureModel::permute(const std::vector<Index>& order) {
+  std::vector<Vec3> scratch;
+  permute_array(step_start_velocity_, order, scratch);
+  permute_array(velocity_rate_, order, scratch);
+  std::vector<Index> ids;
+  permute_array(step_start_id_, order, ids);
+  permute_array(rate_id_, order, ids);
+}
+
+Vec3 MixtureModel::slip_acceleration(const FluidParticles& fluid, Index i) const {
+  Vec3 a = gravity_;
+  if (rate_id_[i] == fluid.id[i]) a -= velocity_rate_[i];
+  const Real limit = kMaxSlipInG * std::max(gravity_.norm(), Real(1));
+  const Real norm = a.norm();
+  return norm > limit ? Vec3(a * (limit / norm)) : a;
+}
+
+void MixtureModel::compute_drift(const FluidParticles& fluid, const ParticleNeighbourhood& nb) {
+  resize(fluid.size());
+  const long n = long(fluid.active_count());
+  // Clear last step's fluxes (only interface particles had any).
+  for (Index i : interface_) {
+    if (i < is_interface_.size()) {
+      is_interface_[i] = 0;
+      flux_oil_[i].setZero();
+      stress_oil_[i].setZero();
+      stress_water_[i].setZero();
+    }
+  }
+  const Real* alpha = fluid.oil_fraction.data();
+  // A particle takes part when it is mixed or a neighbour's composition differs from its own.
+#pragma omp parallel for schedule(dynamic, 128)
+  for (long li = 0; li < n; ++li) {
+    const Index i = Index(li);
+    const Real ai = alpha[i];
+    bool differs = ai > 0 && ai < 1;
+    const auto& ff = nb.fluid;
+    for (Index k = ff.lists.offsets[i]; k < ff.lists.offsets[i + 1] && !differs; ++k)
+      differs = alpha[ff.lists.indices[k]] != ai;
+    is_interface_[i] = differs ? 1 : 0;
+  }
+  interface_.clear();
+  for (long i = 0; i < n; ++i)
+    if (is_interface_[size_t(i)]) interface_.push_back(Index(i));
+
+  const Real rho_o = materials_.oil.density, rho_w = materials_.water.density;
+  const Real tau = config_.drift_tau, sigma = config_.diffusion_sigma;
+  const long m = long(interface_.size());
+#pragma omp parallel for schedule(dynamic, 32)
+  for (long li = 0; li < m; ++li) {
+    const Index i = interface_[size_t(li)];
+    const Real ai = alpha[i];
+    Vec3 grad_alpha = Vec3::Zero();
+    Real kernel_sum = fluid.rest_volume[i] * nb.kernel_at_zero(),
+         density_sum = kernel_sum * fluid.rest_density[i];
+    Vec3 grad_p_oil = Vec3::Zero(), grad_p_water = Vec3::Zero();
+    nb.fluid.for_each(i, [&](Index j, Index k) {
+      const Vec3& g = nb.fluid.gradient[k];
+      grad_alpha += (alpha[j] - ai) * g;
+      const Real vw = fluid.rest_volume[j] * nb.fluid.value[k];
+      kernel_sum += vw;
+      density_sum += vw * fluid.rest_density[j];
+      if (config_.pressure_term) {
+        const Real pi = fluid.pressure[i], pj = fluid.pressure[j];
+        grad_p_oil += (alpha[j] * pj - ai * pi) * g;
+        grad_p_water += ((1 - alpha[j]) * pj - (1 - ai) * pi) * g;
+      }
+    });
+    const Real rho_m = fluid.rest_density[i];
+    const Real c_oil = ai * rho_o / rho_m, c_water = 1 - c_oil;
+    // The slip is taken relative to the surrounding mixture, the kernel average of the rest
+    // densities around i. Ren et al. take it relative to the particle's own mixture
+    // (sum_k c_k rho_k), which gives a pure particle no slip at all: a pure oil particle below
+    // water could then only rise by passing between water particles, which a lattice of SPH
+    // particles at rest does not do. In a uniform mixture the two agree.
+    const Real rho_c = density_sum / kernel_sum;
+    const Vec3 a = slip_acceleration(fluid, i);
+    // sum_k c_k grad alpha_k / alpha_k, finite also for a pure particle.
+    const Vec3 weighted_gradient = ((rho_o - rho_w) / rho_m) * grad_alpha;
+    Vec3 j_oil = (tau * ai * (rho_o - rho_c)) * a - sigma * (grad_alpha - ai * weighted_gradient);
+    Vec3 j_water = (tau * (1 - ai) * (rho_w - rho_c)) * a -
+                   sigma * (-grad_alpha - (1 - ai) * weighted_gradient);
+    if (config_.pressure_term) {
+      const Vec3 mean_grad_p = c_oil * grad_p_oil + c_water * grad_p_water;
+      j_oil -= (tau * ai) * (grad_p_oil - mean_grad_p);
+      j_water -= (tau * (1 - ai)) * (grad_p_water - mean_grad_p);
+    }
+    flux_oil_[i] = j_oil;
+    stress_oil_[i] = ai > kTinyFraction ? Vec3(j_oil * std::sqrt(rho_o / ai)) : Vec3::Zero();
+    stress_water_[i] =
+        1 - ai > kTinyFraction ? Vec3(j_water * std::sqrt(rho_w / (1 - ai))) : Vec3::Zero();
+  }
+}
+
+void MixtureModel::exchange_and_drift_momentum(FluidParticles& fluid,
+                                               const ParticleNeighbourhood& nb, Real dt) {
+  const Real* alpha = fluid.oil_fraction.data();
+  exchange_.resize(nb.fluid.gradient.size());
+  const long m = long(interface_.size());
+  // In one pass over each interface particle's pairs:
+  //  - the oil volume (in particle volumes) that pair (i, j) moves from i to j this step
+  //    (negative: from j to i, with as much water going the other way). Upwind: each side sends
+  //    oil only along its own flux (V_j grad W_ij points from i to j), so a particle without
+  //    slip only receives; centred differences (J_i + J_j) would oscillate across a sharp
+  //    interface and smear it. Exactly antisymmetric, as grad W_ji = -grad W_ij bit for bit;
+  //  - the limiter: the share of its requested outflow each particle can afford;
+  //  - the drift momentum term -div(sum_k alpha_k rho_k u_k u_k) / rho_m, with
+  //    (sum_k alpha_k rho_k u_k u_k) . g = sum_k s_k (s_k . g), s_k = J_k sqrt(rho_k / alpha_k).
+#pragma omp parallel for schedule(dynamic, 32)
+  for (long li = 0; li < m; ++li) {
+    const Index i = interface_[size_t(li)];
+    const bool pure_i = alpha[i] == 0 || alpha[i] == 1;
+    Real oil_out = 0, water_out = 0;
+    Vec3 divergence = Vec3::Zero(), gradient_sum = Vec3::Zero();
+    const auto& ff = nb.fluid;
+    for (Index k = ff.lists.offsets[i]; k < ff.lists.offsets[i + 1]; ++k) {
+      const Index j = ff.lists.indices[k];
+      const Vec3& g = ff.gradient[k];
+      Real q = 0;
+      if (!(pure_i && alpha[j] == alpha[i]))
+        q = 2 * dt *
+            (std::max(flux_oil_[i].dot(g), Real(0)) - std::max(-flux_oil_[j].dot(g), Real(0)));
+      exchange_[k] = q;
+      if (q > 0)
+        oil_out += q;
+      else
+        water_out -= q;
+      gradient_sum += g;
+      if (is_interface_[j])
+        divergence +=
+            stress_oil_[j] * stress_oil_[j].dot(g) + stress_water_[j] * stress_water_[j].dot(g);
+    }
+    // i's own share factors out of the pair sum: T_i . sum_j V_j grad W_ij.
+    divergence += stress_oil_[i] * stress_oil_[i].dot(gradient_sum) +
+                  stress_water_[i] * stress_water_[i].dot(gradient_sum);
+    limit_oil_[i] = oil_out > alpha[i] ? alpha[i] / oil_out : Real(1);
+    limit_water_[i] = water_out > 1 - alpha[i] ? (1 - alpha[i]) / water_out : Real(1);
+    fluid.acceleration[i] -= divergence / fluid.rest_density[i];
+  }
+}
+
+void MixtureModel::transport(FluidParticles& fluid, const ParticleNeighbourhood& nb, Real dt) {
+  const Real* alpha = fluid.oil_fraction.data();
+  const long m = long(interface_.size());
+  new_fraction_.resize(interface_.size());
+#pragma omp parallel for schedule(dynamic, 32)
+  for (long li = 0; li < m; ++li) {
+    const Index i = interface_[size_t(li)];
+    Real change = 0;
+    const auto& ff = nb.fluid;
+    for (Index k = ff.lists.offsets[i]; k < ff.lists.offsets[i + 1]; ++k) {
+      const Index j = ff.lists.indices[k];
+      const Real q = exchange_[k];
+      if (q > 0)
+        change -= q * std::min(limit_oil_[i], limit_water_[j]);
+      else if (q < 0)
+        change -= q * std::min(limit_oil_[j], limit_water_[i]);
+    }
+    new_fraction_[size_t(li)] = std::clamp(alpha[i] + change, Real(0), Real(1));
+  }
+  for (long li = 0; li < m; ++li)
+    fluid.oil_fraction[interface_[size_t(li)]] = new_fraction_[size_t(li)];
+  for (long li = 0; li < m; ++li) {
+    const Index i = interface_[size_t(li)];
+    const PhaseMix mix =
+        mix_phases(fluid.oil_fraction[i], materials_.water.density, materials_.water.viscosity,
+                   materials_.oil.density, materials_.oil.viscosity);
+    fluid.oil_fraction[i] = mix.oil_fraction;
+    fluid.rest_density[i] = mix.rest_density;
+    fluid.viscosity[i] = mix.viscosity;
+    fluid.type[i] = mix.type;
+  }
+  // Dv/Dt of this step for the next step's slip term.
+  const long n = long(fluid.active_count());
+  const Real inv_dt = Real(1) / dt;
+#pragma omp parallel for schedule(static)
+  for (long li = 0; li < n; ++li) {
+    const size_t i = size_t(li);
+    const bool same_particle = step_start_id_[i] == fluid.id[i];
+    velocity_rate_[i] =
+        same_particle ? Vec3((fluid.velocity[i] - step_start_velocity_[i]) * inv_dt) : Vec3::Zero();
+    rate_id_[i] = same_particle ? fluid.id[i] : kNoParticle;
+    step_start_velocity_[i] = fluid.velocity[i];
+    step_start_id_[i] = fluid.id[i];
+  }
+}
+
+}  // namespace sph
