@@ -1,0 +1,218 @@
+// Two-phase validation of MTDF-SPH: layering after a pour, conservation of mass and volume
+// fractions, surface tension in zero gravity, and immiscibility in a collision compared with
+// plain DFSPH (the MTDF-SPH paper's Fig. 6 claim).
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <sstream>
+
+#include <Eigen/Eigenvalues>
+
+#include "sph/scene.h"
+#include "sph/simulation.h"
+
+namespace sph {
+namespace {
+
+const std::string kScenes = std::string(SPILL_SOURCE_DIR) + "/configs/scenes/";
+
+void run_to(Simulation& sim, double t_end, double frame_dt) {
+  const int frames = int(std::lround(t_end / frame_dt));
+  for (int f = 1; f <= frames; ++f) sim.advance_to(double(f) * frame_dt, f);
+}
+
+bool is_oil(const FluidParticles& f, Index i) {
+  return f.oil_fraction[i] >= Real(0.5);
+}
+
+// Pairs of active particles closer than `radius` whose dominant phases differ, and all pairs.
+std::pair<long, long> unlike_pairs(const FluidParticles& f, double radius) {
+  long unlike = 0, all = 0;
+  const Index n = f.active_count();
+  for (Index i = 0; i < n; ++i)
+    for (Index j = i + 1; j < n; ++j)
+      if (double((f.position[i] - f.position[j]).squaredNorm()) < radius * radius) {
+        ++all;
+        unlike += is_oil(f, i) != is_oil(f, j);
+      }
+  return {unlike, all};
+}
+
+double total_mass(const FluidParticles& f) {
+  double m = 0;
+  for (Index i = 0; i < f.active_count(); ++i)
+    m += double(f.rest_density[i]) * double(f.rest_volume[i]);
+  return m;
+}
+
+// Ratio of the largest to the smallest principal radius of gyration of the active particles.
+double gyration_ratio(const FluidParticles& f) {
+  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+  const Index n = f.active_count();
+  for (Index i = 0; i < n; ++i) mean += f.position[i].cast<double>();
+  mean /= double(n);
+  Eigen::Matrix3d c = Eigen::Matrix3d::Zero();
+  for (Index i = 0; i < n; ++i) {
+    const Eigen::Vector3d d = f.position[i].cast<double>() - mean;
+    c += d * d.transpose() / double(n);
+  }
+  const Eigen::Vector3d ev = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(c).eigenvalues();
+  return std::sqrt(ev.maxCoeff() / ev.minCoeff());
+}
+
+// Oil poured from a pipe plunges to the floor; after settling MTDF-SPH has it in a layer on
+// top: >= 95 % of the oil particles above the water's free surface (the mean over 2d x 2d
+// columns of the highest water particle) minus one diameter, and few water particles above
+// the oil layer's lower quartile.
+TEST(TwoPhase, PouredOilEndsInALayerOnTop) {
+  const LoadedScene scene = load_scene(kScenes + "oil_water_pour.json");
+  Simulation sim(scene.config);
+  run_to(sim, double(scene.config.end_time), double(scene.config.output.frame_dt));
+  const FluidParticles& f = sim.fluid();
+  const double d = double(scene.config.particle_diameter());
+  std::map<std::pair<int, int>, double> column_top;
+  std::vector<double> oil_z;
+  for (Index i = 0; i < f.active_count(); ++i) {
+    const Vec3& x = f.position[i];
+    if (is_oil(f, i)) {
+      oil_z.push_back(double(x[2]));
+      continue;
+    }
+    const auto key = std::make_pair(int(std::floor(double(x[0]) / (2 * d))),
+                                    int(std::floor(double(x[1]) / (2 * d))));
+    auto it = column_top.find(key);
+    if (it == column_top.end() || it->second < double(x[2])) column_top[key] = double(x[2]);
+  }
+  double surface = 0;
+  for (const auto& c : column_top) surface += c.second / double(column_top.size());
+  const double above =
+      double(std::count_if(oil_z.begin(), oil_z.end(), [&](double z) { return z > surface - d; })) /
+      double(oil_z.size());
+  std::sort(oil_z.begin(), oil_z.end());
+  const double oil_lower_quartile = oil_z[oil_z.size() / 4];
+  long water_above = 0;
+  for (Index i = 0; i < f.active_count(); ++i)
+    water_above += !is_oil(f, i) && double(f.position[i][2]) > oil_lower_quartile;
+  std::ostringstream what;
+  what << oil_z.size() << " oil particles, water surface " << surface
+       << " m, oil above it - d: " << above * 100
+       << " %, water particles above the oil's lower quartile: " << water_above;
+  EXPECT_GE(oil_z.size(), 1400u) << what.str();  // 1,503 particles' worth of oil was poured
+  EXPECT_GE(above, 0.95) << what.str();
+  EXPECT_LT(double(water_above), 0.1 * double(oil_z.size())) << what.str();
+}
+
+// An oil cube under water, no emitter: the total mass stays constant to 1e-6 relative, every
+// oil fraction stays in [0, 1] (water's is 1 - oil's, so the sum is 1 by construction) and the
+// rest density matches the fractions; the oil rises.
+TEST(TwoPhase, MixtureConservesMassAndBoundsFractions) {
+  const LoadedScene scene =
+      load_scene(kScenes + "oil_rise.json",
+                 {"/solver=\"mtdf\"", "/particle_radius=0.02", "/end_time=1.5",
+                  "/materials/water/viscosity=0.001", "/materials/oil/viscosity=0.004"});
+  Simulation sim(scene.config);
+  const double mass0 = total_mass(sim.fluid());
+  auto oil_height = [&] {
+    double volume = 0, moment = 0;
+    const FluidParticles& f = sim.fluid();
+    for (Index i = 0; i < f.active_count(); ++i) {
+      volume += double(f.oil_fraction[i]);
+      moment += double(f.oil_fraction[i]) * double(f.position[i][2]);
+    }
+    return moment / volume;
+  };
+  const double height0 = oil_height();
+  double worst_mass = 0;
+  const int frames = int(std::lround(scene.config.end_time / scene.config.output.frame_dt));
+  for (int frame = 1; frame <= frames; ++frame) {
+    sim.advance_to(double(frame) * double(scene.config.output.frame_dt), frame);
+    const FluidParticles& f = sim.fluid();
+    worst_mass = std::max(worst_mass, std::abs(total_mass(f) / mass0 - 1));
+    for (Index i = 0; i < f.active_count(); ++i) {
+      ASSERT_GE(f.oil_fraction[i], 0) << "frame " << frame << " particle " << i;
+      ASSERT_LE(f.oil_fraction[i], 1) << "frame " << frame << " particle " << i;
+      const double expected =
+          double(scene.config.materials.oil.density) * f.oil_fraction[i] +
+          double(scene.config.materials.water.density) * (1 - f.oil_fraction[i]);
+      ASSERT_NEAR(f.rest_density[i], expected, 1e-3 * expected);
+    }
+  }
+  EXPECT_LT(worst_mass, 1e-6);
+  EXPECT_GT(oil_height() - height0, 0.05)
+      << "oil-weighted height " << height0 << " -> " << oil_height() << " m";
+}
+
+// Zero gravity: a 2:1:1 block of oil pulls itself toward a sphere under surface tension (the
+// ratio of principal radii of gyration falls), and a cube of oil in water at rest does not mix.
+TEST(TwoPhase, SurfaceTensionRoundsABlockInZeroGravity) {
+  const nlohmann::json j = nlohmann::json::parse(R"({
+    "name": "zero_g_block", "solver": "mtdf", "particle_radius": 0.01, "end_time": 2.0,
+    "gravity": [0, 0, 0], "output": {"frame_dt": 0.1},
+    "materials": {"water": {"density": 1000, "viscosity": 0.001},
+                  "oil": {"density": 940, "viscosity": 0.004}},
+    "domain": {"min": [-0.3, -0.3, -0.3], "max": [0.5, 0.3, 0.3]},
+    "fluid_blocks": [{"min": [0, -0.05, -0.05], "max": [0.2, 0.05, 0.05], "material": "oil"}]})");
+  Simulation sim(parse_scene(j, "zero_g_block").config);
+  const double ratio0 = gyration_ratio(sim.fluid());
+  double late_mean = 0;
+  for (int frame = 1; frame <= 20; ++frame) {
+    sim.advance_to(0.1 * frame, frame);
+    if (frame > 10) late_mean += gyration_ratio(sim.fluid()) / 10;
+  }
+  EXPECT_NEAR(ratio0, 2.0, 0.1);
+  EXPECT_LT(late_mean, 0.85 * ratio0)
+      << "ratio of radii of gyration " << ratio0 << " -> mean over the second second " << late_mean;
+}
+
+TEST(TwoPhase, OilCubeInWaterAtRestDoesNotMix) {
+  const nlohmann::json j = nlohmann::json::parse(R"({
+    "name": "oil_cube_zero_g", "solver": "mtdf", "particle_radius": 0.01, "end_time": 1.0,
+    "gravity": [0, 0, 0], "output": {"frame_dt": 0.1},
+    "materials": {"water": {"density": 1000, "viscosity": 0.001},
+                  "oil": {"density": 940, "viscosity": 0.004}},
+    "boxes": [{"min": [0, 0, 0], "max": [0.2, 0.2, 0.2]}],
+    "fluid_blocks": [{"min": [0.06, 0.06, 0.06], "max": [0.14, 0.14, 0.14], "material": "oil"},
+                     {"min": [0, 0, 0], "max": [0.2, 0.2, 0.06]},
+                     {"min": [0, 0, 0.14], "max": [0.2, 0.2, 0.2]},
+                     {"min": [0, 0, 0.06], "max": [0.06, 0.2, 0.14]},
+                     {"min": [0.14, 0, 0.06], "max": [0.2, 0.2, 0.14]},
+                     {"min": [0.06, 0, 0.06], "max": [0.14, 0.06, 0.14]},
+                     {"min": [0.06, 0.14, 0.06], "max": [0.14, 0.2, 0.14]}]})");
+  const LoadedScene scene = parse_scene(j, "oil_cube_zero_g");
+  Simulation sim(scene.config);
+  const double h = double(scene.config.support_radius());
+  const long unlike0 = unlike_pairs(sim.fluid(), h).first;
+  run_to(sim, 1.0, 0.1);
+  const long unlike1 = unlike_pairs(sim.fluid(), h).first;
+  EXPECT_GT(unlike0, 0);
+  EXPECT_LT(double(unlike1), 1.5 * double(unlike0))
+      << "unlike-phase pairs at the interface " << unlike0 << " -> " << unlike1;
+}
+
+// Water and oil injected from opposite walls collide: with plain DFSPH they interpenetrate, with
+// MTDF-SPH they stay apart (unlike-phase neighbour pairs as a share of all pairs, at the end).
+TEST(TwoPhase, CollidingPhasesStayApartWithMtdfButNotDfsph) {
+  auto mixed_share = [&](const std::string& solver) {
+    const LoadedScene scene =
+        load_scene(kScenes + "two_phase_collision.json", {"/solver=\"" + solver + "\""});
+    Simulation sim(scene.config);
+    run_to(sim, double(scene.config.end_time), double(scene.config.output.frame_dt));
+    const auto pairs = unlike_pairs(sim.fluid(), double(scene.config.support_radius()));
+    return std::make_pair(double(pairs.first) / double(pairs.second), pairs.first);
+  };
+  const auto mtdf = mixed_share("mtdf");
+  const auto dfsph = mixed_share("dfsph");
+  std::ostringstream what;
+  what << "unlike-phase pairs at the end: MTDF-SPH " << mtdf.second << " (" << mtdf.first * 100
+       << " %), DFSPH " << dfsph.second << " (" << dfsph.first * 100 << " %)";
+  EXPECT_LT(mtdf.first, 0.12) << what.str();
+  EXPECT_GT(dfsph.first, 0.25) << what.str();
+  EXPECT_LT(mtdf.first, dfsph.first / 3) << what.str();
+  std::cout << what.str() << "\n";
+}
+
+}  // namespace
+}  // namespace sph
