@@ -30,7 +30,6 @@ void MixtureModel::resize(size_t size) {
   limit_water_.resize(size, 1);
   step_start_velocity_.resize(size, Vec3::Zero());
   step_start_id_.resize(size, kNoParticle);
-  rate_id_.resize(size, kNoParticle);
   velocity_rate_.resize(size, Vec3::Zero());
 }
 
@@ -40,12 +39,13 @@ void MixtureModel::permute(const std::vector<Index>& order) {
   permute_array(velocity_rate_, order, scratch);
   std::vector<Index> ids;
   permute_array(step_start_id_, order, ids);
-  permute_array(rate_id_, order, ids);
 }
 
 Vec3 MixtureModel::slip_acceleration(const FluidParticles& fluid, Index i) const {
   Vec3 a = gravity_;
-  if (rate_id_[i] == fluid.id[i]) a -= velocity_rate_[i];
+  // The rate was recorded for the particle whose id is step_start_id_; a slot taken over since
+  // (emission, retirement) has none.
+  if (step_start_id_[i] == fluid.id[i]) a -= velocity_rate_[i];
   const Real limit = kMaxSlipInG * std::max(gravity_.norm(), Real(1));
   const Real norm = a.norm();
   return norm > limit ? Vec3(a * (limit / norm)) : a;
@@ -56,12 +56,10 @@ void MixtureModel::compute_drift(const FluidParticles& fluid, const ParticleNeig
   const long n = long(fluid.active_count());
   // Clear last step's fluxes (only interface particles had any).
   for (Index i : interface_) {
-    if (i < is_interface_.size()) {
-      is_interface_[i] = 0;
-      flux_oil_[i].setZero();
-      stress_oil_[i].setZero();
-      stress_water_[i].setZero();
-    }
+    is_interface_[i] = 0;
+    flux_oil_[i].setZero();
+    stress_oil_[i].setZero();
+    stress_water_[i].setZero();
   }
   const Real* alpha = fluid.oil_fraction.data();
   // A particle takes part when it is mixed or a neighbour's composition differs from its own.
@@ -194,12 +192,11 @@ void MixtureModel::transport(FluidParticles& fluid, const ParticleNeighbourhood&
     }
     new_fraction_[size_t(li)] = std::clamp(alpha[i] + change, Real(0), Real(1));
   }
-  for (long li = 0; li < m; ++li)
-    fluid.oil_fraction[interface_[size_t(li)]] = new_fraction_[size_t(li)];
+  // Written after the loop above, which reads the neighbours' old fractions.
   for (long li = 0; li < m; ++li) {
     const Index i = interface_[size_t(li)];
     const PhaseMix mix =
-        mix_phases(fluid.oil_fraction[i], materials_.water.density, materials_.water.viscosity,
+        mix_phases(new_fraction_[size_t(li)], materials_.water.density, materials_.water.viscosity,
                    materials_.oil.density, materials_.oil.viscosity);
     fluid.oil_fraction[i] = mix.oil_fraction;
     fluid.rest_density[i] = mix.rest_density;
@@ -212,10 +209,10 @@ void MixtureModel::transport(FluidParticles& fluid, const ParticleNeighbourhood&
 #pragma omp parallel for schedule(static)
   for (long li = 0; li < n; ++li) {
     const size_t i = size_t(li);
-    const bool same_particle = step_start_id_[i] == fluid.id[i];
-    velocity_rate_[i] =
-        same_particle ? Vec3((fluid.velocity[i] - step_start_velocity_[i]) * inv_dt) : Vec3::Zero();
-    rate_id_[i] = same_particle ? fluid.id[i] : kNoParticle;
+    // A particle new to this slot (just emitted) has no rate yet.
+    velocity_rate_[i] = step_start_id_[i] == fluid.id[i]
+                            ? Vec3((fluid.velocity[i] - step_start_velocity_[i]) * inv_dt)
+                            : Vec3::Zero();
     step_start_velocity_[i] = fluid.velocity[i];
     step_start_id_[i] = fluid.id[i];
   }

@@ -54,9 +54,6 @@ class MixtureModel {
   // Reorders per-particle state like FluidParticles::permute.
   void permute(const std::vector<Index>& order);
 
-  // Number of particles that took part in the last step.
-  size_t interface_count() const { return interface_.size(); }
-
  private:
   void resize(size_t size);
   // a = g - Dv/Dt of the last step, bounded (an impact's acceleration would otherwise drive
@@ -76,9 +73,8 @@ class MixtureModel {
   std::vector<Real> limit_water_;           // [n] same for water
   std::vector<Real> new_fraction_;          // [interface] alpha after transport
   std::vector<Vec3> step_start_velocity_;   // [n] velocity when the last step began
-  std::vector<Index> step_start_id_;        // [n] whose velocity it is (slots get reused)
-  std::vector<Vec3> velocity_rate_;         // [n] Dv/Dt over the last step
-  std::vector<Index> rate_id_;              // [n] whose Dv/Dt it is
+  std::vector<Index> step_start_id_;  // [n] whose velocity and rate these are (slots get reused)
+  std::vector<Vec3> velocity_rate_;   // [n] Dv/Dt over the last step
 };
 
 }  // namespace sph
