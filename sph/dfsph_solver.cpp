@@ -4,6 +4,8 @@
 #include <chrono>
 #include <cmath>
 
+#include "sph/stopwatch.h"
+
 namespace sph {
 
 namespace {
@@ -11,10 +13,6 @@ namespace {
 // Fewer neighbours than this marks a particle near the free surface, whose density deficit is not
 // compression: the divergence solve leaves it alone (as the reference implementation does).
 constexpr Index kMinNeighboursForDivergence = 20;
-
-double seconds_since(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
 
 // Rate of change of rho/rho0 from the current velocities:
 //   sum_j V_j (v_i - v_j) . grad W_ij + v_i . sum_b V_b grad W_ib   (the boundary rests).

@@ -13,6 +13,7 @@
 #include "sph/image_writer.h"
 #include "sph/ply_writer.h"
 #include "sph/progress.h"
+#include "sph/stopwatch.h"
 #include "sph/trajectory_writer.h"
 
 namespace sph {
@@ -230,8 +231,7 @@ nlohmann::json run_scene(const LoadedScene& scene, const RunOptions& options) {
     record(frame);
     if (options.log) progress.update(frame, frame_detail(sim, f));
   }
-  const double wall_s =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  const double wall_s = seconds_since(t0);
   writer.close();
   const double steps = double(std::max(1L, sim.steps()));
   nlohmann::json summary =
@@ -258,8 +258,7 @@ nlohmann::json benchmark_scene(const LoadedScene& scene, int threads, std::ostre
     it_divergence += f.iterations_divergence * f.steps;
     if (log) progress.update(frame, frame_detail(sim, f));
   }
-  const double wall_s =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  const double wall_s = seconds_since(t0);
   const double steps = double(std::max(1L, sim.steps()));
   nlohmann::json j = summary_json(sim, wall_s, it_density / steps, it_divergence / steps, threads);
   j["scene"] = scene.config.name;

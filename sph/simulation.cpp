@@ -6,13 +6,11 @@
 #include <sstream>
 
 #include "sph/config_error.h"
+#include "sph/stopwatch.h"
 
 namespace sph {
 
 namespace {
-double seconds_since(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
 std::string format_vec(const Vec3& p) {
   std::ostringstream s;
   s << "(" << p[0] << ", " << p[1] << ", " << p[2] << ")";

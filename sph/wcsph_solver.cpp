@@ -4,6 +4,8 @@
 #include <chrono>
 #include <cmath>
 
+#include "sph/stopwatch.h"
+
 namespace sph {
 
 WcsphSolver::WcsphSolver(const WcsphConfig& config, Real particle_diameter, Real cfl,
@@ -58,8 +60,7 @@ void WcsphSolver::step(SolverHost& host, StepStats& stats) {
     fluid.velocity[i] += dt * fluid.acceleration[i];
     fluid.position[i] += dt * fluid.velocity[i];
   }
-  host.time_split().pressure_solve +=
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  host.time_split().pressure_solve += seconds_since(t0);
   stats.dt = dt;
   stats.iterations_density = 0;
   stats.iterations_divergence = 0;
