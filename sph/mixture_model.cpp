@@ -24,8 +24,8 @@ void MixtureModel::resize(size_t size) {
   if (is_interface_.size() == size) return;
   is_interface_.resize(size, 0);
   flux_oil_.resize(size, Vec3::Zero());
-  stress_oil_.resize(size, Vec3::Zero());
-  stress_water_.resize(size, Vec3::Zero());
+  drift_stress_.resize(size);
+  fraction_change_.resize(size, 0);
   limit_oil_.resize(size, 1);
   limit_water_.resize(size, 1);
   step_start_velocity_.resize(size, Vec3::Zero());
@@ -58,8 +58,7 @@ void MixtureModel::compute_drift(const FluidParticles& fluid, const ParticleNeig
   for (Index i : interface_) {
     is_interface_[i] = 0;
     flux_oil_[i].setZero();
-    stress_oil_[i].setZero();
-    stress_water_[i].setZero();
+    drift_stress_[i] = SymmetricTensor();
   }
   const Real* alpha = fluid.oil_fraction.data();
   // A particle takes part when it is mixed or a neighbour's composition differs from its own.
@@ -120,9 +119,11 @@ void MixtureModel::compute_drift(const FluidParticles& fluid, const ParticleNeig
       j_water -= (tau * (1 - ai)) * (grad_p_water - mean_grad_p);
     }
     flux_oil_[i] = j_oil;
-    stress_oil_[i] = ai > kTinyFraction ? Vec3(j_oil * std::sqrt(rho_o / ai)) : Vec3::Zero();
-    stress_water_[i] =
-        1 - ai > kTinyFraction ? Vec3(j_water * std::sqrt(rho_w / (1 - ai))) : Vec3::Zero();
+    // alpha_k rho_k u_k u_k = s_k s_k^T with s_k = J_k sqrt(rho_k / alpha_k).
+    SymmetricTensor stress;
+    if (ai > kTinyFraction) stress.add_outer(j_oil * std::sqrt(rho_o / ai));
+    if (1 - ai > kTinyFraction) stress.add_outer(j_water * std::sqrt(rho_w / (1 - ai)));
+    drift_stress_[i] = stress;
   }
 }
 
@@ -138,71 +139,123 @@ void MixtureModel::exchange_and_drift_momentum(FluidParticles& fluid,
   //    slip only receives; centred differences (J_i + J_j) would oscillate across a sharp
   //    interface and smear it. Exactly antisymmetric, as grad W_ji = -grad W_ij bit for bit;
   //  - the limiter: the share of its requested outflow each particle can afford;
-  //  - the drift momentum term -div(sum_k alpha_k rho_k u_k u_k) / rho_m, with
-  //    (sum_k alpha_k rho_k u_k u_k) . g = sum_k s_k (s_k . g), s_k = J_k sqrt(rho_k / alpha_k).
+  //  - the drift momentum term -div(sum_k alpha_k rho_k u_k u_k) / rho_m.
 #pragma omp parallel for schedule(dynamic, 32)
   for (long li = 0; li < m; ++li) {
     const Index i = interface_[size_t(li)];
-    const bool pure_i = alpha[i] == 0 || alpha[i] == 1;
+    const Real ai = alpha[i];
+    const Vec3 flux_i = flux_oil_[i];
+    // Oil goes from i to j only if i has oil and j water to give back, and the other way; two
+    // pure particles of one phase exchange nothing. Written without branches: the signs vary
+    // from pair to pair and mispredicted branches cost more than the arithmetic.
+    const Real i_has_oil = Real(ai > 0), i_has_water = Real(ai < 1);
+    const bool pure_i = ai == 0 || ai == 1;
+    const Real two_dt = 2 * dt;
     Real oil_out = 0, water_out = 0;
     Vec3 divergence = Vec3::Zero(), gradient_sum = Vec3::Zero();
     const auto& ff = nb.fluid;
     for (Index k = ff.lists.offsets[i]; k < ff.lists.offsets[i + 1]; ++k) {
       const Index j = ff.lists.indices[k];
       const Vec3& g = ff.gradient[k];
+      const Real aj = alpha[j];
       Real q = 0;
-      if (!(pure_i && alpha[j] == alpha[i]))
-        q = 2 * dt *
-            (std::max(flux_oil_[i].dot(g), Real(0)) - std::max(-flux_oil_[j].dot(g), Real(0)));
+      if (!(pure_i && aj == ai)) {
+        if (i_has_oil > 0 && aj < 1) q += std::max(flux_i.dot(g), Real(0));
+        if (i_has_water > 0 && aj > 0) q -= std::max(-flux_oil_[j].dot(g), Real(0));
+        q *= two_dt;
+      }
       exchange_[k] = q;
       if (q > 0)
         oil_out += q;
       else
         water_out -= q;
       gradient_sum += g;
-      if (is_interface_[j])
-        divergence +=
-            stress_oil_[j] * stress_oil_[j].dot(g) + stress_water_[j] * stress_water_[j].dot(g);
+      // Zero outside the interface.
+      divergence += drift_stress_[j].times(g);
     }
     // i's own share factors out of the pair sum: T_i . sum_j V_j grad W_ij.
-    divergence += stress_oil_[i] * stress_oil_[i].dot(gradient_sum) +
-                  stress_water_[i] * stress_water_[i].dot(gradient_sum);
+    divergence += drift_stress_[i].times(gradient_sum);
+    // The fraction change if no exchange is limited; transport() corrects the pairs that are.
+    fraction_change_[i] = water_out - oil_out;
     limit_oil_[i] = oil_out > alpha[i] ? alpha[i] / oil_out : Real(1);
     limit_water_[i] = water_out > 1 - alpha[i] ? (1 - alpha[i]) / water_out : Real(1);
     fluid.acceleration[i] -= divergence / fluid.rest_density[i];
   }
+  limited_.clear();
+  for (Index i : interface_)
+    if (limit_oil_[i] < 1 || limit_water_[i] < 1) limited_.push_back(i);
+}
+
+void MixtureModel::absorb_traces(FluidParticles& fluid, const ParticleNeighbourhood& nb) {
+  trace_recipients_.clear();
+  const Real trace = config_.trace_fraction;
+  if (trace <= 0) return;
+  Real* alpha = fluid.oil_fraction.data();
+  // Serial: a recipient may itself be a trace handed on later in the loop, and the order must not
+  // depend on the thread count.
+  for (Index i : interface_) {
+    const Real ai = alpha[i];
+    const bool oil_trace = ai > 0 && ai < trace;
+    const bool water_trace = ai < 1 && ai > 1 - trace;
+    if (!oil_trace && !water_trace) continue;
+    // The neighbour richest in the trace's phase that has room for it, and richer than i: traces
+    // rejoin the bulk of their phase rather than wander.
+    Index recipient = kNoParticle;
+    Real recipient_alpha = ai;
+    nb.fluid.for_each(i, [&](Index j, Index) {
+      const Real aj = alpha[j];
+      const bool better =
+          oil_trace ? aj > recipient_alpha && aj + ai <= 1 : aj < recipient_alpha && aj >= 1 - ai;
+      if (better) {
+        recipient = j;
+        recipient_alpha = aj;
+      }
+    });
+    if (recipient == kNoParticle) continue;
+    if (oil_trace) {
+      alpha[recipient] += ai;
+      alpha[i] = 0;
+    } else {
+      alpha[recipient] -= 1 - ai;
+      alpha[i] = 1;
+    }
+    trace_recipients_.push_back(recipient);
+  }
 }
 
 void MixtureModel::transport(FluidParticles& fluid, const ParticleNeighbourhood& nb, Real dt) {
-  const Real* alpha = fluid.oil_fraction.data();
-  const long m = long(interface_.size());
-  new_fraction_.resize(interface_.size());
-#pragma omp parallel for schedule(dynamic, 32)
-  for (long li = 0; li < m; ++li) {
-    const Index i = interface_[size_t(li)];
-    Real change = 0;
-    const auto& ff = nb.fluid;
+  // An exchange moves q min(limit of the giver, limit of the taker), so only pairs with a
+  // limited particle differ from the unlimited change summed in exchange_and_drift_momentum;
+  // those are a few per cent of the interface. Serial, as a correction reaches both sides of a
+  // pair; a pair of two limited particles is met from both and each corrects its own side.
+  const auto& ff = nb.fluid;
+  for (Index i : limited_) {
     for (Index k = ff.lists.offsets[i]; k < ff.lists.offsets[i + 1]; ++k) {
-      const Index j = ff.lists.indices[k];
       const Real q = exchange_[k];
-      if (q > 0)
-        change -= q * std::min(limit_oil_[i], limit_water_[j]);
-      else if (q < 0)
-        change -= q * std::min(limit_oil_[j], limit_water_[i]);
+      if (q == 0) continue;
+      const Index j = ff.lists.indices[k];
+      const Real share = q > 0 ? std::min(limit_oil_[i], limit_water_[j])
+                               : std::min(limit_oil_[j], limit_water_[i]);
+      const Real correction = q * (1 - share);
+      fraction_change_[i] += correction;
+      if (limit_oil_[j] == 1 && limit_water_[j] == 1) fraction_change_[j] -= correction;
     }
-    new_fraction_[size_t(li)] = std::clamp(alpha[i] + change, Real(0), Real(1));
   }
-  // Written after the loop above, which reads the neighbours' old fractions.
-  for (long li = 0; li < m; ++li) {
-    const Index i = interface_[size_t(li)];
+  Real* alpha = fluid.oil_fraction.data();
+  for (Index i : interface_)
+    alpha[i] = std::clamp(alpha[i] + fraction_change_[i], Real(0), Real(1));
+  absorb_traces(fluid, nb);
+  const auto update_mixture = [&](Index i) {
     const PhaseMix mix =
-        mix_phases(new_fraction_[size_t(li)], materials_.water.density, materials_.water.viscosity,
+        mix_phases(fluid.oil_fraction[i], materials_.water.density, materials_.water.viscosity,
                    materials_.oil.density, materials_.oil.viscosity);
     fluid.oil_fraction[i] = mix.oil_fraction;
     fluid.rest_density[i] = mix.rest_density;
     fluid.viscosity[i] = mix.viscosity;
     fluid.type[i] = mix.type;
-  }
+  };
+  for (Index i : interface_) update_mixture(i);
+  for (Index i : trace_recipients_) update_mixture(i);
   // Dv/Dt of this step for the next step's slip term.
   const long n = long(fluid.active_count());
   const Real inv_dt = Real(1) / dt;

@@ -88,6 +88,7 @@ struct MixtureConfig {
   Real drift_tau = Real(1e-3);
   Real diffusion_sigma = Real(1e-4);
   bool pressure_term = false;
+  Real trace_fraction = Real(1e-3);
   template <class V>
   void describe(V& v) {
     v.field("drift_tau", drift_tau,
@@ -107,6 +108,13 @@ struct MixtureConfig {
                   "Include Ren's phase-pressure term -tau (grad p_k - sum c_k grad p_k) with "
                   "p_k = alpha_k p; its p grad(alpha) part diffuses the phases at a rate tau p, "
                   "which at depth mixes them, so it is off by default"));
+    v.field("trace_fraction", trace_fraction,
+            param("",
+                  "A particle holding less than this fraction of a phase hands it to the "
+                  "neighbour richest in that phase after each step (volume is conserved): "
+                  "Ren's clamp of small fractions without its loss of mass; 0 turns it off")
+                .non_negative()
+                .at_most(Real(0.1)));
   }
 };
 
