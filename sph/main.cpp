@@ -2,6 +2,7 @@
 //   spill-sim run --scene FILE --out DIR [--set /pointer=value ...] [--threads N] [--ply] [--png]
 //                 [--force]
 //   spill-sim bench [--scene FILE] [--radius R ...] [--threads N] [--set ...]
+//   spill-sim bench --scene FILE --compare mtdf,dfsph [--repeat N] [--threads N] [--set ...]
 //   spill-sim scene-doc
 
 #include <omp.h>
@@ -11,10 +12,12 @@
 #include <atomic>
 #include <csignal>
 #include <iostream>
+#include <stdexcept>
 
 #include "sph/config_error.h"
 #include "sph/scene.h"
 #include "sph/scene_runner.h"
+#include "sph/solver_comparison.h"
 
 namespace {
 
@@ -59,6 +62,15 @@ int main(int argc, char** argv) {
   bench->add_option("--radius", radii, "Particle radii to run (default: the scene's)");
   bench->add_option("--threads", bench_threads, "OpenMP threads")->capture_default_str();
   bench->add_option("--set", bench_overrides, "Override a scene value: /json/pointer=value");
+  std::vector<std::string> compare_solvers;
+  int repeat = 3;
+  bench
+      ->add_option("--compare", compare_solvers,
+                   "Compare solvers on the scene, runs alternating (e.g. mtdf,dfsph); the "
+                   "ratio is the first's median wall time over the second's")
+      ->delimiter(',');
+  bench->add_option("--repeat", repeat, "Runs of each solver with --compare")
+      ->capture_default_str();
 
   auto* doc = app.add_subcommand("scene-doc", "Print the scene parameter reference (Markdown)");
 
@@ -90,6 +102,23 @@ int main(int argc, char** argv) {
     }
     if (*bench) {
       const int n = thread_count(bench_threads);
+      if (!compare_solvers.empty()) {
+        if (!radii.empty())
+          throw std::invalid_argument(
+              "--compare takes the scene's radius; change it with --set /particle_radius=R");
+        sph::SolverComparison comparison;
+        comparison.scene_file = bench_scene;
+        comparison.overrides = bench_overrides;
+        comparison.solvers = compare_solvers;
+        comparison.repeat = repeat;
+        comparison.threads = n;
+        nlohmann::json out = {{"benchmark", "spill-sim bench --compare"},
+                              {"scene_file", bench_scene},
+                              {"machine", sph::machine_description(n)}};
+        out.update(sph::compare_solvers(comparison, &std::cerr));
+        std::cout << out.dump(2) << "\n";
+        return 0;
+      }
       nlohmann::json results = nlohmann::json::array();
       if (radii.empty()) radii.push_back(-1);
       for (double r : radii) {
