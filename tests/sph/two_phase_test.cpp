@@ -146,26 +146,38 @@ TEST(TwoPhase, MixtureConservesMassAndBoundsFractions) {
       << "oil-weighted height " << height0 << " -> " << oil_height() << " m";
 }
 
-// Zero gravity: a 2:1:1 block of oil pulls itself toward a sphere under surface tension (the
-// ratio of principal radii of gyration falls), and a cube of oil in water at rest does not mix.
+// Zero gravity: a 2:1:1 block of water pulls itself toward a sphere under surface tension: the
+// ratio of its principal radii of gyration, 2 at the start, approaches 1 (a sphere of 250
+// particles stays a little lumpy and oscillates, so the bar is the mean over the last 3 s of
+// 6 s). The same block with the force on every particle (surface_only off) is reported for
+// comparison: the bulk's cohesion then holds the lattice together and it hardly rounds.
+// With the reference oil's 4x viscosity the block jams near a ratio of 1.6.
 TEST(TwoPhase, SurfaceTensionRoundsABlockInZeroGravity) {
-  const nlohmann::json j = nlohmann::json::parse(R"({
-    "name": "zero_g_block", "solver": "mtdf", "particle_radius": 0.01, "end_time": 2.0,
-    "gravity": [0, 0, 0], "output": {"frame_dt": 0.1},
-    "materials": {"water": {"density": 1000, "viscosity": 0.001},
-                  "oil": {"density": 940, "viscosity": 0.004}},
-    "domain": {"min": [-0.3, -0.3, -0.3], "max": [0.5, 0.3, 0.3]},
-    "fluid_blocks": [{"min": [0, -0.05, -0.05], "max": [0.2, 0.05, 0.05], "material": "oil"}]})");
-  Simulation sim(parse_scene(j, "zero_g_block").config);
-  const double ratio0 = gyration_ratio(sim.fluid());
-  double late_mean = 0;
-  for (int frame = 1; frame <= 20; ++frame) {
-    sim.advance_to(0.1 * frame, frame);
-    if (frame > 10) late_mean += gyration_ratio(sim.fluid()) / 10;
-  }
+  auto late_mean_ratio = [](bool surface_only, double* ratio0) {
+    nlohmann::json j = nlohmann::json::parse(R"({
+      "name": "zero_g_block", "solver": "mtdf", "particle_radius": 0.01, "end_time": 6.0,
+      "gravity": [0, 0, 0], "output": {"frame_dt": 0.1},
+      "materials": {"water": {"density": 1000, "viscosity": 0.001},
+                    "oil": {"density": 940, "viscosity": 0.004}},
+      "domain": {"min": [-0.3, -0.3, -0.3], "max": [0.5, 0.3, 0.3]},
+      "fluid_blocks": [{"min": [0, -0.05, -0.05], "max": [0.2, 0.05, 0.05]}]})");
+    j["surface_tension"]["surface_only"] = surface_only;
+    Simulation sim(parse_scene(j, "zero_g_block").config);
+    *ratio0 = gyration_ratio(sim.fluid());
+    double late_mean = 0;
+    for (int frame = 1; frame <= 60; ++frame) {
+      sim.advance_to(0.1 * frame, frame);
+      if (frame > 30) late_mean += gyration_ratio(sim.fluid()) / 30;
+    }
+    return late_mean;
+  };
+  double ratio0 = 0, ratio0_all = 0;
+  const double surface = late_mean_ratio(true, &ratio0);
+  const double all = late_mean_ratio(false, &ratio0_all);
+  std::cout << "ratio of radii of gyration " << ratio0 << " -> mean over 3-6 s " << surface
+            << " (force on surface particles), " << all << " (on all particles)\n";
   EXPECT_NEAR(ratio0, 2.0, 0.1);
-  EXPECT_LT(late_mean, 0.85 * ratio0)
-      << "ratio of radii of gyration " << ratio0 << " -> mean over the second second " << late_mean;
+  EXPECT_LT(surface, 1.3) << "ratio of radii of gyration " << ratio0 << " -> " << surface;
 }
 
 TEST(TwoPhase, OilCubeInWaterAtRestDoesNotMix) {
