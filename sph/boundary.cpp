@@ -148,6 +148,18 @@ BoundaryParticles build_boundary(const SceneConfig& scene, KernelKind kernel) {
     auto p = sample_height_field(lowered, spacing);
     points.insert(points.end(), p.begin(), p.end());
   }
+  if (scene.terrain_grid) {
+    const Terrain& t = *scene.terrain_grid;
+    HeightFieldConfig field;
+    field.origin = Vec3(t.origin_x, t.origin_y, 0);
+    field.cell_size = t.cell_size;
+    field.heights.assign(size_t(t.ny), std::vector<Real>(size_t(t.nx)));
+    for (int iy = 0; iy < t.ny; ++iy)
+      for (int ix = 0; ix < t.nx; ++ix)
+        field.heights[size_t(iy)][size_t(ix)] = t.at(ix, iy) - offset;
+    auto p = sample_height_field(field, spacing);
+    points.insert(points.end(), p.begin(), p.end());
+  }
   BoundaryParticles boundary;
   boundary.position = remove_duplicates(points, spacing * Real(0.25));
   boundary.volume = boundary_volumes(boundary.position, kernel, scene.support_radius());

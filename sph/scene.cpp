@@ -1,12 +1,16 @@
 #include "sph/scene.h"
 
+#include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <limits>
 #include <sstream>
 
 #include "sph/config_error.h"
 #include "sph/config_visitors.h"
+#include "sph/height_map_io.h"
+#include "sph/river_generator.h"
 
 namespace sph {
 
@@ -66,8 +70,9 @@ void check_consistency(const SceneConfig& s, const std::string& file) {
     if (!(e.direction.norm() > 0))
       throw ConfigError(file, ptr + "/direction", "expected a non-zero direction");
   }
-  if (s.fluid_blocks.empty() && s.emitters.empty())
-    throw ConfigError(file, "/fluid_blocks", "expected at least one fluid block or emitter");
+  if (s.fluid_blocks.empty() && s.emitters.empty() && !(s.terrain && s.terrain->fill_water))
+    throw ConfigError(file, "/fluid_blocks",
+                      "expected at least one fluid block, emitter or water-filled terrain");
   if (s.domain) {
     for (size_t i = 0; i < s.fluid_blocks.size(); ++i) {
       const auto& b = s.fluid_blocks[i];
@@ -91,6 +96,11 @@ Aabb geometry_bounds(const SceneConfig& s) {
   };
   for (const auto& box : s.boxes) grow(box.min), grow(box.max);
   for (const auto& block : s.fluid_blocks) grow(block.min), grow(block.max);
+  if (s.terrain_grid) {
+    const Terrain& t = *s.terrain_grid;
+    grow(Vec3(t.origin_x, t.origin_y, t.min_height()));
+    grow(Vec3(t.max_x(), t.max_y(), std::max(t.max_height(), s.terrain->water_level)));
+  }
   for (const auto& f : s.height_fields) {
     for (const auto& row : f.heights)
       for (Real z : row) grow(Vec3(f.origin[0], f.origin[1], z));
@@ -108,12 +118,39 @@ void check_emitters_inside(const SceneConfig& s, const std::string& file) {
                         "the emitter lies outside the domain spanned by the scene's geometry");
 }
 
+// Generates or reads the terrain's height grid. Files are found relative to the scene file.
+std::shared_ptr<const Terrain> load_terrain(const TerrainConfig& c, const std::string& file) {
+  const std::filesystem::path folder = std::filesystem::path(file).parent_path();
+  auto resolve = [&](const std::string& name) { return (folder / name).string(); };
+  if (c.source != "river" && c.file.empty())
+    throw ConfigError(file, "/terrain/file", "expected a height map file for source " + c.source);
+  Terrain t;
+  if (c.source == "river") {
+    t = generate_river(c.river);
+  } else if (c.source == "asc") {
+    t = read_esri_ascii(resolve(c.file));
+  } else {
+    if (!(c.cell_size > 0))
+      throw ConfigError(file, "/terrain/cell_size", "expected > 0 for a PNG height map");
+    if (!(c.z_max > c.z_min))
+      throw ConfigError(file, "/terrain/z_max", "expected > /terrain/z_min");
+    t = read_height_png(resolve(c.file), c.origin[0], c.origin[1], c.cell_size, c.z_min, c.z_max);
+  }
+  if (!c.water_mask.empty()) {
+    if (c.source == "river")
+      throw ConfigError(file, "/terrain/water_mask", "the generated river has its own mask");
+    read_water_mask_png(resolve(c.water_mask), t);
+  }
+  return std::make_shared<const Terrain>(std::move(t));
+}
+
 }  // namespace
 
 LoadedScene parse_scene(nlohmann::json j, const std::string& file) {
   LoadedScene out;
   out.file = file;
   JsonReader::read_struct(j, file, "", out.config);
+  if (out.config.terrain) out.config.terrain_grid = load_terrain(*out.config.terrain, file);
   check_consistency(out.config, file);
   check_emitters_inside(out.config, file);
   out.resolved = JsonWriter::write_struct(out.config);

@@ -3,12 +3,14 @@
 // in a describe() list (name, unit, default, range, description); loading, the resolved copy in
 // metadata.json and docs/scene_reference.md all come from those lists.
 
+#include <memory>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include "sph/param_spec.h"
+#include "sph/terrain.h"
 #include "sph/types.h"
 
 namespace sph {
@@ -227,6 +229,85 @@ struct HeightFieldConfig {
   }
 };
 
+// The built-in river generator (sph/river_generator.h): water flows along +x, its surface is
+// z = 0, and the reach runs straight, bends, narrows and widens.
+struct RiverGeneratorConfig {
+  int seed = 1;
+  Real length = 8;
+  Real width = 2;
+  Real depth = Real(0.3);
+  Real bank_height = Real(0.15);
+  Real bank_slope = 1;
+  Real bend_amplitude = Real(0.6);
+  Real narrowing = Real(0.7);
+  Real widening = Real(1.4);
+  Real bed_roughness = Real(0.03);
+  Real floodplain = Real(0.2);
+  Real cell_size = Real(0.05);
+  template <class V>
+  void describe(V& v) {
+    v.field("seed", seed, param("", "Seed of the bed roughness").at_least(0));
+    v.field("length", length, param("m", "Length of the reach along +x").positive());
+    v.field("width", width, param("m", "Width of the channel at the water surface").positive());
+    v.field("depth", depth, param("m", "Depth of the flat bed below the surface").positive());
+    v.field("bank_height", bank_height,
+            param("m", "Height of the bank tops above the surface").positive());
+    v.field("bank_slope", bank_slope,
+            param("", "Horizontal run of the banks per unit rise").positive().at_most(20));
+    v.field("bend_amplitude", bend_amplitude,
+            param("m", "How far the centreline swings towards +y (the left bank) in the bend"));
+    v.field("narrowing", narrowing,
+            param("", "Width factor of the narrowing reach").positive().at_most(1));
+    v.field("widening", widening,
+            param("", "Width factor of the widening reach").at_least(1).at_most(4));
+    v.field("bed_roughness", bed_roughness,
+            param("m", "Largest height of the seeded bed undulations").non_negative());
+    v.field("floodplain", floodplain,
+            param("m", "Flat ground beyond each bank top").non_negative());
+    v.field("cell_size", cell_size, param("m", "Spacing of the height grid").positive());
+  }
+};
+
+// Terrain of a river scene: from a height map or the built-in generator; optionally filled with
+// water at rest up to `water_level` where the water mask says so.
+struct TerrainConfig {
+  std::string source = "river";
+  std::string file;
+  std::string water_mask;
+  Vec3 origin = Vec3::Zero();
+  Real cell_size = 0;
+  Real z_min = 0;
+  Real z_max = 1;
+  RiverGeneratorConfig river;
+  bool fill_water = false;
+  Real water_level = 0;
+  template <class V>
+  void describe(V& v) {
+    v.field("source", source,
+            param("",
+                  "river: the built-in generator; asc: an ESRI ASCII grid; png: a grayscale "
+                  "height map (8 or 16 bit)")
+                .one_of({"river", "asc", "png"}));
+    v.field("file", file,
+            param("", "Height map file (asc, png), relative to the scene file's folder"));
+    v.field("water_mask", water_mask,
+            param("",
+                  "PNG of the height map's size, nonzero where the river is (asc, png; "
+                  "optional: without it every cell below water_level is water)"));
+    v.field("origin", origin,
+            param("m", "png: position of the south-west (bottom-left) pixel's centre; z unused"));
+    v.field("cell_size", cell_size,
+            param("m", "png: distance between pixel centres").non_negative());
+    v.field("z_min", z_min, param("m", "png: height of gray value 0"));
+    v.field("z_max", z_max, param("m", "png: height of the largest gray value"));
+    v.field("river", river, param("", "Built-in river generator (source river)"));
+    v.field("fill_water", fill_water,
+            param("", "Fill the water cells with fluid at rest up to water_level"));
+    v.field("water_level", water_level,
+            param("m", "Height of the water surface (the generated river's is 0)"));
+  }
+};
+
 struct FluidBlockConfig {
   Vec3 min = Vec3::Zero();
   Vec3 max = Vec3::Zero();
@@ -323,6 +404,9 @@ struct SceneConfig {
   std::vector<FluidBlockConfig> fluid_blocks;
   std::vector<EmitterConfig> emitters;
   std::optional<DomainConfig> domain;
+  std::optional<TerrainConfig> terrain;
+  // The terrain's height grid, loaded or generated when the scene is parsed (not a parameter).
+  std::shared_ptr<const Terrain> terrain_grid;
 
   Real particle_diameter() const { return 2 * particle_radius; }
   Real support_radius() const { return support_factor * particle_radius; }
@@ -363,6 +447,10 @@ struct SceneConfig {
                   "particles"));
     v.field("fluid_blocks", fluid_blocks, param("", "Blocks filled with fluid particles"));
     v.field("emitters", emitters, param("", "Sources that release fluid over time"));
+    v.field("terrain", terrain,
+            param("",
+                  "River terrain sampled with boundary particles, optionally filled with "
+                  "water"));
     v.field("domain", domain,
             param("",
                   "Simulation domain; particles leaving it stop the run (default: the "

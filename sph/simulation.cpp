@@ -23,6 +23,31 @@ KernelKind kernel_kind(const std::string& name) {
   return KernelKind::kCubicSpline;
 }
 
+void Simulation::fill_terrain_with_water(Real volume) {
+  const Terrain& t = *scene_.terrain_grid;
+  const Real spacing = scene_.particle_diameter(), r = scene_.particle_radius;
+  const Real level = scene_.terrain->water_level;
+  const MaterialsConfig& m = scene_.materials;
+  const PhaseMix water =
+      mix_phases(0, m.water.density, m.water.viscosity, m.oil.density, m.oil.viscosity);
+  // Columns of particles stacked from the ground up: the lowest cell rests on the highest ground
+  // under its footprint, so the bed has no voids for the water to slump into (a lattice anchored
+  // anywhere else leaves gaps of up to a spacing over an uneven bed, and the water dropped half a
+  // spacing and sloshed at the start). The top layer lies within half a spacing of the level.
+  const int nx = int(std::floor((t.max_x() - t.origin_x) / spacing + Real(1e-4)));
+  const int ny = int(std::floor((t.max_y() - t.origin_y) / spacing + Real(1e-4)));
+  for (int iy = 0; iy < ny; ++iy)
+    for (int ix = 0; ix < nx; ++ix) {
+      const Real x = t.origin_x + r + Real(ix) * spacing, y = t.origin_y + r + Real(iy) * spacing;
+      if (!t.is_water(x, y)) continue;
+      Real ground = t.height_at(x, y);
+      for (const Real dx : {-r, r})
+        for (const Real dy : {-r, r}) ground = std::max(ground, t.height_at(x + dx, y + dy));
+      for (Real z = ground + r; z <= level - r + Real(0.5) * spacing; z += spacing)
+        fluid_.add(Vec3(x, y, z), Vec3::Zero(), volume, water);
+    }
+}
+
 Simulation::Simulation(const SceneConfig& scene)
     : scene_(scene), kernel_(kernel_kind(scene.kernel)) {
   boundary_ = build_boundary(scene_, kernel_);
@@ -35,6 +60,7 @@ Simulation::Simulation(const SceneConfig& scene)
     for (const auto& p : lattice_points(block.min, block.max, spacing))
       fluid_.add(p, block.velocity, volume, mix);
   }
+  if (scene_.terrain && scene_.terrain->fill_water) fill_terrain_with_water(volume);
 
   for (size_t k = 0; k < scene_.emitters.size(); ++k) {
     const EmitterConfig& e = scene_.emitters[k];

@@ -69,6 +69,8 @@ class Simulation : private SolverHost {
   TimeSplit& time_split() override { return time_split_; }
 
   void check_state(int frame) const;
+  // Water at rest in the terrain's water cells, from the ground up to terrain.water_level.
+  void fill_terrain_with_water(Real volume);
   void reorder_by_cell();
 
   SceneConfig scene_;
