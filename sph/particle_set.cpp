@@ -68,6 +68,12 @@ void FluidParticles::activate(Index slot, const Vec3& x, const Vec3& v) {
   ++active;
 }
 
+void FluidParticles::deactivate(Index slot) {
+  assert(slot < active);
+  --active;
+  swap_slots(slot, active);
+}
+
 void FluidParticles::permute(const std::vector<Index>& order) {
   assert(order.size() == active);
   std::vector<Vec3> v3;

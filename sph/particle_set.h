@@ -50,6 +50,9 @@ struct FluidParticles {
   Index find_inactive(Index id) const;
   // Moves the inactive particle at `slot` to the end of the active range, with a new state.
   void activate(Index slot, const Vec3& x, const Vec3& v);
+  // Retires the active particle at `slot`: it moves to the first inactive slot (the last active
+  // one takes its place) and keeps its state and identity.
+  void deactivate(Index slot);
   // Exchanges every per-particle value of two slots.
   void swap_slots(Index a, Index b);
 

@@ -70,7 +70,13 @@ void check_consistency(const SceneConfig& s, const std::string& file) {
     if (!(e.direction.norm() > 0))
       throw ConfigError(file, ptr + "/direction", "expected a non-zero direction");
   }
-  if (s.fluid_blocks.empty() && s.emitters.empty() && !(s.terrain && s.terrain->fill_water))
+  if (s.flow) {
+    if (!s.terrain) throw ConfigError(file, "/flow", "a river flow needs a /terrain");
+    if (!(s.flow->outflow_x > s.flow->inflow_x))
+      throw ConfigError(file, "/flow/outflow_x", "expected > /flow/inflow_x");
+  }
+  if (s.fluid_blocks.empty() && s.emitters.empty() && !(s.terrain && s.terrain->fill_water) &&
+      !s.flow)
     throw ConfigError(file, "/fluid_blocks",
                       "expected at least one fluid block, emitter or water-filled terrain");
   if (s.domain) {

@@ -281,6 +281,7 @@ struct TerrainConfig {
   RiverGeneratorConfig river;
   bool fill_water = false;
   Real water_level = 0;
+  Vec3 fill_velocity = Vec3::Zero();
   template <class V>
   void describe(V& v) {
     v.field("source", source,
@@ -303,8 +304,45 @@ struct TerrainConfig {
     v.field("river", river, param("", "Built-in river generator (source river)"));
     v.field("fill_water", fill_water,
             param("", "Fill the water cells with fluid at rest up to water_level"));
+    v.field("fill_velocity", fill_velocity,
+            param("m/s",
+                  "Initial velocity of the filled water (a river's flow speed shortens "
+                  "its warm-up)"));
     v.field("water_level", water_level,
             param("m", "Height of the water surface (the generated river's is 0)"));
+  }
+};
+
+// Flow through a river reach (needs `terrain`): water enters through the channel's cross-section
+// at `inflow_x` at `speed` along +x and particles past `outflow_x` are retired; retired water
+// particles are recycled to the inflow (identities stay fixed).
+struct FlowConfig {
+  Real inflow_x = 0;
+  Real outflow_x = 0;
+  Real speed = Real(1.5);
+  Real buffer = Real(0.1);
+  Real reserve_s = Real(1);
+  template <class V>
+  void describe(V& v) {
+    v.field("inflow_x", inflow_x,
+            param("m",
+                  "Plane where water enters: a layer of particles over the channel's "
+                  "cross-section below terrain/water_level")
+                .require());
+    v.field(
+        "outflow_x", outflow_x,
+        param("m", "Particles downstream of this plane leave the scene (active = 0)").require());
+    v.field("speed", speed, param("m/s", "Inflow speed along +x").positive());
+    v.field("buffer", buffer,
+            param("m",
+                  "Length downstream of inflow_x over which water moves at exactly `speed` "
+                  "(the inflow's steady profile), so the flow cannot push back through it")
+                .non_negative());
+    v.field("reserve_s", reserve_s,
+            param("s",
+                  "Spare particles for the inflow, in seconds of inflow, before retired ones "
+                  "come back; running out stops the run with an error")
+                .positive());
   }
 };
 
@@ -405,6 +443,7 @@ struct SceneConfig {
   std::vector<EmitterConfig> emitters;
   std::optional<DomainConfig> domain;
   std::optional<TerrainConfig> terrain;
+  std::optional<FlowConfig> flow;
   // The terrain's height grid, loaded or generated when the scene is parsed (not a parameter).
   std::shared_ptr<const Terrain> terrain_grid;
 
@@ -451,6 +490,7 @@ struct SceneConfig {
             param("",
                   "River terrain sampled with boundary particles, optionally filled with "
                   "water"));
+    v.field("flow", flow, param("", "Inflow and outflow of a river reach (needs terrain)"));
     v.field("domain", domain,
             param("",
                   "Simulation domain; particles leaving it stop the run (default: the "

@@ -44,7 +44,7 @@ void Simulation::fill_terrain_with_water(Real volume) {
       for (const Real dx : {-r, r})
         for (const Real dy : {-r, r}) ground = std::max(ground, t.height_at(x + dx, y + dy));
       for (Real z = ground + r; z <= level - r + Real(0.5) * spacing; z += spacing)
-        fluid_.add(Vec3(x, y, z), Vec3::Zero(), volume, water);
+        fluid_.add(Vec3(x, y, z), scene_.terrain->fill_velocity, volume, water);
     }
 }
 
@@ -72,6 +72,18 @@ Simulation::Simulation(const SceneConfig& scene)
       throw SimulationError("emitter " + std::to_string(k) + ": " + error.what());
     }
     emitters_.back().allocate(fluid_);
+  }
+
+  if (scene_.flow) {
+    try {
+      flow_ = std::make_unique<RiverFlow>(
+          *scene_.flow, *scene_.terrain_grid, scene_.terrain->water_level, spacing, volume,
+          mix_phases(0, m.water.density, m.water.viscosity, m.oil.density, m.oil.viscosity),
+          double(scene_.output.frame_dt));
+    } catch (const std::invalid_argument& error) {
+      throw SimulationError(std::string("flow: ") + error.what());
+    }
+    flow_->allocate(fluid_);
   }
 
   if (scene_.domain) {
@@ -189,9 +201,11 @@ FrameStats Simulation::advance_to(double t_end, int frame) {
   while (time_ < t_end - eps) {
     const auto t0 = std::chrono::steady_clock::now();
     for (auto& emitter : emitters_) emitter.emit(fluid_, time_);
+    if (flow_) flow_->emit(fluid_, time_);
     StepStats step;
     solver_->step(*this, step);
     time_ += double(step.dt);
+    if (flow_) flow_->after_step(fluid_, time_);
     ++steps_;
     ++stats.steps;
     check_state(frame);

@@ -14,6 +14,7 @@
 #include "sph/non_pressure_force.h"
 #include "sph/particle_set.h"
 #include "sph/pressure_solver.h"
+#include "sph/river_flow.h"
 #include "sph/scene.h"
 #include "sph/solver_host.h"
 
@@ -48,7 +49,8 @@ class Simulation : private SolverHost {
   const Aabb& domain() const { return domain_; }
   const TimeSplit& timing() const { return time_split_; }
   const std::vector<Emitter>& emitters() const { return emitters_; }
-  double kinetic_energy() const;  // J, of the active fluid
+  const RiverFlow* flow() const { return flow_.get(); }  // nullptr without a `flow`
+  double kinetic_energy() const;                         // J, of the active fluid
 
   // A per-particle array of fluid() in identity order (index = particle id), for writers:
   // e.g. in_id_order(fluid().position).
@@ -82,6 +84,7 @@ class Simulation : private SolverHost {
   std::unique_ptr<PressureSolver> solver_;
   std::vector<std::unique_ptr<NonPressureForce>> forces_;
   std::vector<Emitter> emitters_;
+  std::unique_ptr<RiverFlow> flow_;
   TimeSplit time_split_;
   Real viscous_dt_limit_ = std::numeric_limits<Real>::infinity();
   double time_ = 0;

@@ -1,0 +1,126 @@
+// River inflow and outflow: the inflow layer spans the channel's cross-section, it releases
+// speed x cross-section per second, retired water comes back only after its cooldown, oil never
+// comes back, and an exhausted reserve is a clear error.
+
+#include "sph/river_flow.h"
+
+#include <gtest/gtest.h>
+
+#include <string>
+
+#include "sph/config_error.h"
+#include "sph/river_generator.h"
+
+namespace sph {
+namespace {
+
+constexpr Real kSpacing = Real(0.05);
+constexpr double kFrameDt = 0.05;
+
+RiverGeneratorConfig straight_river() {
+  RiverGeneratorConfig c;
+  c.length = 2;
+  c.width = 1;
+  c.depth = Real(0.3);
+  c.bank_slope = 1;
+  c.bed_roughness = 0;
+  c.bend_amplitude = 0;
+  c.narrowing = 1;
+  c.widening = 1;
+  c.cell_size = Real(0.025);
+  return c;
+}
+
+FlowConfig flow_config() {
+  FlowConfig f;
+  f.inflow_x = Real(0.025);
+  f.outflow_x = Real(1.5);
+  f.speed = Real(1.5);
+  f.reserve_s = Real(0.2);
+  return f;
+}
+
+PhaseMix water() {
+  return mix_phases(0, 1000, Real(0.001), 940, Real(0.004));
+}
+
+TEST(RiverFlow, InflowLayerSpansTheCrossSection) {
+  const RiverGeneratorConfig c = straight_river();
+  const Terrain t = generate_river(c);
+  const RiverFlow flow(flow_config(), t, 0, kSpacing, Real(1.25e-4), water(), kFrameDt);
+  // A trapezoid: 1 m wide at the surface, 0.4 m at the bed, 0.3 m deep.
+  const double area = 0.3 * (1.0 + 0.4) / 2;
+  const double layer_area = double(flow.layer().size()) * double(kSpacing * kSpacing);
+  EXPECT_NEAR(layer_area / area, 1, 0.15) << flow.layer().size() << " particles per layer";
+  for (const Vec3& p : flow.layer()) {
+    EXPECT_GE(p.z() - kSpacing / 2, t.height_at(p.x(), p.y()) - 1e-5);
+    EXPECT_LE(p.z(), 1e-5);
+  }
+  EXPECT_NEAR(double(flow.inflow_rate()),
+              1.5 * double(flow.layer().size()) * 1.25e-4 / double(kSpacing), 1e-6);
+}
+
+TEST(RiverFlow, ReleasesLayersRetiresAndRecyclesWater) {
+  const Terrain t = generate_river(straight_river());
+  FlowConfig config = flow_config();
+  config.reserve_s = Real(0.1);  // three layers
+  RiverFlow flow(config, t, 0, kSpacing, Real(1.25e-4), water(), kFrameDt);
+  FluidParticles fluid;
+  flow.allocate(fluid);
+  const Index layer = Index(flow.layer().size());
+  const Index reserve = fluid.size();
+  EXPECT_EQ(reserve % layer, 0u);
+  const double interval = double(kSpacing) / 1.5;
+  flow.emit(fluid, 3.5 * interval);  // layers 1, 2, 3 are due
+  EXPECT_EQ(flow.emitted(), long(3 * layer));
+  EXPECT_EQ(fluid.active_count(), 3 * layer);
+  for (Index i = 0; i < fluid.active_count(); ++i) EXPECT_FLOAT_EQ(fluid.velocity[i].x(), 1.5f);
+
+  // Two particles pass the outflow plane, one of them oil: both retire, only the water returns.
+  fluid.position[0].x() = 1.6f;
+  fluid.position[1].x() = 1.7f;
+  fluid.oil_fraction[1] = 1;
+  const Index water_id = fluid.id[0], oil_id = fluid.id[1];
+  const double t_retire = 3.5 * interval;
+  flow.after_step(fluid, t_retire);
+  EXPECT_EQ(flow.retired(), 2);
+  EXPECT_EQ(fluid.active_count(), 3 * layer - 2);
+  for (Index i = 0; i < fluid.active_count(); ++i) {
+    EXPECT_NE(fluid.id[i], water_id);
+    EXPECT_NE(fluid.id[i], oil_id);
+  }
+  // Emitting the rest of the reserve: the water particle is back only after its cooldown of two
+  // frames, and the oil one never; then the reserve runs dry with a clear error.
+  const long reserve_layers = long(reserve / layer);
+  const double t_dry = double(reserve_layers + 1) * interval;
+  ASSERT_LT(t_dry, t_retire + 2 * kFrameDt) << "the test needs the reserve to run out first";
+  try {
+    flow.emit(fluid, t_dry + 1e-9);
+    FAIL() << "expected the reserve to run out";
+  } catch (const SimulationError& e) {
+    EXPECT_NE(std::string(e.what()).find("reserve_s"), std::string::npos) << e.what();
+  }
+  for (Index i = 0; i < fluid.active_count(); ++i) EXPECT_NE(fluid.id[i], water_id);
+}
+
+TEST(RiverFlow, RecycledWaterReentersAfterItsCooldown) {
+  const Terrain t = generate_river(straight_river());
+  FlowConfig config = flow_config();
+  config.reserve_s = Real(0.07);  // two layers
+  RiverFlow flow(config, t, 0, kSpacing, Real(1.25e-4), water(), kFrameDt);
+  FluidParticles fluid;
+  flow.allocate(fluid);
+  const Index layer = Index(flow.layer().size());
+  const double interval = double(kSpacing) / 1.5;
+  flow.emit(fluid, 2 * interval);
+  ASSERT_EQ(fluid.active_count(), 2 * layer);  // the whole reserve is out
+  // Every particle leaves at once, at t = 2 intervals; the next layer is due at 3 intervals but
+  // the particles are free only 2 frames after leaving.
+  for (Index i = 0; i < fluid.active_count(); ++i) fluid.position[i].x() = 1.6f;
+  flow.after_step(fluid, 2 * interval);
+  EXPECT_EQ(fluid.active_count(), 0u);
+  EXPECT_THROW(flow.emit(fluid, 3 * interval), SimulationError);
+}
+
+}  // namespace
+}  // namespace sph
