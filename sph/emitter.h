@@ -26,6 +26,7 @@ class Emitter {
   void emit(FluidParticles& fluid, double t);
 
   Index capacity() const { return Index(layer_.size()) * layers_; }
+  Index emitted() const { return Index(layer_.size()) * emitted_layers_; }  // particles so far
   const std::vector<Vec3>& layer() const { return layer_; }  // outlet points, world coordinates
 
  private:

@@ -5,10 +5,10 @@
 // the `buffer` downstream of the plane every particle is held at that velocity, so the inflow
 // keeps a steady profile and the reach cannot push water back through it. Particles past
 // outflow_x are retired (active = 0); over the `buffer` upstream of that plane their velocity
-// along x is held at `speed` too, so the reach drains as fast as it fills. Retired water particles return to the inflow's pool after
-// two frames (so a recorded trajectory never shows a particle jump from the outflow to the
-// inflow between two frames in which it is active); oil stays retired, so a particle never
-// changes phase. The pool starts with `reserve_s` seconds of inflow.
+// along x is held at `speed` too, so the reach drains as fast as it fills. Retired water particles
+// return to the inflow's pool after two frames (so a recorded trajectory never shows a particle
+// jump from the outflow to the inflow between two frames in which it is active); oil stays retired,
+// so a particle never changes phase. The pool starts with `reserve_s` seconds of inflow.
 
 #include <deque>
 #include <vector>

@@ -10,6 +10,7 @@
 #include "sph/config_error.h"
 #include "sph/config_visitors.h"
 #include "sph/height_map_io.h"
+#include "sph/leak.h"
 #include "sph/river_generator.h"
 
 namespace sph {
@@ -75,8 +76,10 @@ void check_consistency(const SceneConfig& s, const std::string& file) {
     if (!(s.flow->outflow_x > s.flow->inflow_x))
       throw ConfigError(file, "/flow/outflow_x", "expected > /flow/inflow_x");
   }
-  if (s.fluid_blocks.empty() && s.emitters.empty() && !(s.terrain && s.terrain->fill_water) &&
-      !s.flow)
+  if (!s.leaks.empty() && !s.terrain)
+    throw ConfigError(file, "/leaks", "a pipeline leak needs a /terrain to lie over");
+  if (s.fluid_blocks.empty() && s.emitters.empty() && s.leaks.empty() &&
+      !(s.terrain && s.terrain->fill_water) && !s.flow)
     throw ConfigError(file, "/fluid_blocks",
                       "expected at least one fluid block, emitter or water-filled terrain");
   if (s.domain) {
@@ -158,6 +161,10 @@ LoadedScene parse_scene(nlohmann::json j, const std::string& file) {
   JsonReader::read_struct(j, file, "", out.config);
   if (out.config.terrain) out.config.terrain_grid = load_terrain(*out.config.terrain, file);
   check_consistency(out.config, file);
+  // A leak over dry ground or off the terrain is an error naming its /leaks entry.
+  for (size_t i = 0; i < out.config.leaks.size(); ++i)
+    leak_emitter(out.config.leaks[i], *out.config.terrain_grid, out.config.terrain->water_level,
+                 file, i);
   check_emitters_inside(out.config, file);
   out.resolved = JsonWriter::write_struct(out.config);
   return out;

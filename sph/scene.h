@@ -398,6 +398,37 @@ struct EmitterConfig {
   }
 };
 
+// An oil leak from a pipeline crossing the river at `x`: oil pours from the pipe, `height` above
+// the water surface, through a round opening of `radius` straight down, at `rate` for `duration`
+// from `start` (sph/leak.h turns it into an emitter over the chosen point of the channel).
+struct LeakConfig {
+  Real x = 0;
+  std::string position = "centre";
+  Real rate = Real(5e-4);
+  Real start = 0;
+  Real duration = 1;
+  Real height = Real(0.1);
+  Real radius = Real(0.05);
+  Real speed = Real(0.5);
+  template <class V>
+  void describe(V& v) {
+    v.field("x", x, param("m", "Where the pipeline crosses the river, along the flow").require());
+    v.field("position", position,
+            param("",
+                  "Where across the channel the pipe leaks: left_bank (+y, the left looking "
+                  "downstream), centre or right_bank; a bank leak is a fifth of the water "
+                  "surface's width in from that bank")
+                .one_of({"left_bank", "centre", "right_bank"}));
+    v.field("rate", rate, param("m^3/s", "Oil leak rate").positive());
+    v.field("start", start, param("s", "When the leak starts").non_negative());
+    v.field("duration", duration, param("s", "How long it leaks").positive());
+    v.field("height", height,
+            param("m", "Height of the opening above the water surface").positive());
+    v.field("radius", radius, param("m", "Radius of the opening").positive());
+    v.field("speed", speed, param("m/s", "Speed of the oil leaving the opening").positive());
+  }
+};
+
 struct DomainConfig {
   Vec3 min = Vec3::Zero();
   Vec3 max = Vec3::Zero();
@@ -444,6 +475,7 @@ struct SceneConfig {
   std::optional<DomainConfig> domain;
   std::optional<TerrainConfig> terrain;
   std::optional<FlowConfig> flow;
+  std::vector<LeakConfig> leaks;
   // The terrain's height grid, loaded or generated when the scene is parsed (not a parameter).
   std::shared_ptr<const Terrain> terrain_grid;
 
@@ -491,6 +523,8 @@ struct SceneConfig {
                   "River terrain sampled with boundary particles, optionally filled with "
                   "water"));
     v.field("flow", flow, param("", "Inflow and outflow of a river reach (needs terrain)"));
+    v.field("leaks", leaks,
+            param("", "Oil leaks from pipelines crossing the river (need terrain)"));
     v.field("domain", domain,
             param("",
                   "Simulation domain; particles leaving it stop the run (default: the "

@@ -1,5 +1,7 @@
 #include "sph/simulation.h"
 
+#include "sph/leak.h"
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -62,8 +64,13 @@ Simulation::Simulation(const SceneConfig& scene)
   }
   if (scene_.terrain && scene_.terrain->fill_water) fill_terrain_with_water(volume);
 
-  for (size_t k = 0; k < scene_.emitters.size(); ++k) {
-    const EmitterConfig& e = scene_.emitters[k];
+  // Leaks are emitters over the river (validated with the scene, so the file name is moot).
+  std::vector<EmitterConfig> emitter_configs = scene_.emitters;
+  for (size_t k = 0; k < scene_.leaks.size(); ++k)
+    emitter_configs.push_back(leak_emitter(scene_.leaks[k], *scene_.terrain_grid,
+                                           scene_.terrain->water_level, scene_.name, k));
+  for (size_t k = 0; k < emitter_configs.size(); ++k) {
+    const EmitterConfig& e = emitter_configs[k];
     try {
       emitters_.emplace_back(e, spacing, volume,
                              mix_phases(e.material == "oil" ? 1 : 0, m.water.density,
@@ -98,6 +105,10 @@ Simulation::Simulation(const SceneConfig& scene)
     for (const auto& b : scene_.fluid_blocks) {
       domain_.min = domain_.min.cwiseMin(b.min);
       domain_.max = domain_.max.cwiseMax(b.max);
+    }
+    for (const auto& e : emitter_configs) {
+      domain_.min = domain_.min.cwiseMin(e.centre);
+      domain_.max = domain_.max.cwiseMax(e.centre);
     }
     domain_.min.array() -= scene_.support_radius();
     domain_.max.array() += scene_.support_radius();

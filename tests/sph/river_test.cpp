@@ -27,9 +27,10 @@ double mean_reach_velocity(const FluidParticles& f, Real from, Real to) {
 }
 
 // Steady flow: after 3 s of warm-up, the mean velocity in the reach stays within 10 % of the
-// inflow speed and the amount of water in the scene changes by less than 3 % over 2 s.
+// inflow speed and the amount of water in the scene changes by less than 3 % over 2 s (without
+// the scene's leak).
 TEST(River, SmallReachFlowsSteadilyAtTheInflowSpeed) {
-  const LoadedScene scene = load_scene(kScenes + "river_small.json", {"/end_time=5"});
+  const LoadedScene scene = load_scene(kScenes + "river_small.json", {"/end_time=5", "/leaks=[]"});
   const FlowConfig& flow = *scene.config.flow;
   Simulation sim(scene.config);
   const double frame_dt = double(scene.config.output.frame_dt);
@@ -55,6 +56,49 @@ TEST(River, SmallReachFlowsSteadilyAtTheInflowSpeed) {
             << ", retired " << sim.flow()->retired() << "\n";
   EXPECT_LT(worst, 0.1);
   EXPECT_LT(std::abs(change), 0.03);
+}
+
+// A pipeline leak in river_small.json (4 l/s for 3 s from t = 3 s onto the centre of the channel):
+// the oil released is the set volume within 2 %, and it floats: the mean height of the oil above
+// the bed is above the water's.
+TEST(River, LeakReleasesItsVolumeAndTheOilFloats) {
+  const LoadedScene scene = load_scene(kScenes + "river_small.json");
+  const LeakConfig& leak = scene.config.leaks.at(0);
+  Simulation sim(scene.config);
+  const Terrain& terrain = *scene.config.terrain_grid;
+  const double frame_dt = double(scene.config.output.frame_dt);
+  const int frames = int(std::lround(double(scene.config.end_time) / frame_dt));
+  const double leak_end = double(leak.start + leak.duration);
+  int floating = 0, compared = 0;
+  for (int frame = 1; frame <= frames; ++frame) {
+    sim.advance_to(frame * frame_dt, frame);
+    if (frame * frame_dt < double(leak.start) + 0.5) continue;
+    // Height above the local bed, averaged per phase over the active particles.
+    const FluidParticles& f = sim.fluid();
+    double oil = 0, water = 0;
+    long n_oil = 0, n_water = 0;
+    for (Index i = 0; i < f.active_count(); ++i) {
+      const double above_bed =
+          double(f.position[i].z() - terrain.height_at(f.position[i].x(), f.position[i].y()));
+      if (f.oil_fraction[i] >= Real(0.5))
+        oil += above_bed, ++n_oil;
+      else
+        water += above_bed, ++n_water;
+    }
+    if (n_oil < 10) continue;
+    ++compared;
+    floating += oil / double(n_oil) > water / double(n_water);
+  }
+  ASSERT_GE(frame_dt * frames, leak_end);
+  const Emitter& emitter = sim.emitters().at(0);
+  const double released = double(emitter.emitted()) * double(sim.fluid().rest_volume.at(0));
+  const double expected = double(leak.rate) * double(leak.duration);
+  std::cout << "leak released " << released * 1000 << " l of " << expected * 1000
+            << " l; oil above water (mean height over the bed) in " << floating << " of "
+            << compared << " frames\n";
+  EXPECT_NEAR(released / expected, 1, 0.02);
+  EXPECT_GT(compared, 20);
+  EXPECT_EQ(floating, compared);
 }
 
 }  // namespace

@@ -13,6 +13,7 @@
 
 #include "sph/config_error.h"
 #include "sph/height_map_io.h"
+#include "sph/leak.h"
 #include "sph/river_generator.h"
 #include "sph/scene.h"
 #include "sph/simulation.h"
@@ -208,6 +209,43 @@ TEST(TerrainScene, BadTerrainInputsAreClearErrors) {
   j["terrain"] = {{"source", "river"}, {"river", {{"narrowing", 1.5}}}};
   EXPECT_NE(error_of([&] { parse_scene(j, "s.json"); }).find("/terrain/river/narrowing"),
             std::string::npos);
+}
+
+TEST(Leak, PositionsAcrossTheChannelAndPoursDownOntoTheWater) {
+  RiverGeneratorConfig c;
+  const Terrain t = generate_river(c);
+  LeakConfig leak;
+  leak.x = Real(0.1) * c.length;  // the straight reach, centred on y = 0
+  const Real half = Real(0.5) * c.width;
+  auto y_of = [&](const char* position) {
+    leak.position = position;
+    const EmitterConfig e = leak_emitter(leak, t, 0, "s.json", 0);
+    EXPECT_EQ(e.material, "oil");
+    EXPECT_FLOAT_EQ(e.direction.z(), -1);
+    EXPECT_FLOAT_EQ(e.centre.z(), leak.height);
+    EXPECT_FLOAT_EQ(e.stop - e.start, leak.duration);
+    return e.centre.y();
+  };
+  // Left is +y looking downstream (+x); a bank leak is a fifth of the width in from the bank.
+  EXPECT_NEAR(y_of("left_bank"), half - Real(0.2) * c.width, 2 * c.cell_size);
+  EXPECT_NEAR(y_of("centre"), 0, c.cell_size);
+  EXPECT_NEAR(y_of("right_bank"), -half + Real(0.2) * c.width, 2 * c.cell_size);
+}
+
+TEST(Leak, BadLeaksAreClearErrors) {
+  nlohmann::json j = river_scene(2);
+  j["leaks"] = {{{"x", 5.0}}};  // the reach is 2 m long
+  EXPECT_NE(error_of([&] { parse_scene(j, "s.json"); }).find("/leaks/0/x"), std::string::npos);
+  j["leaks"] = {{{"x", 1.0}, {"rate", -0.001}}};
+  EXPECT_NE(error_of([&] { parse_scene(j, "s.json"); }).find("/leaks/0/rate"), std::string::npos);
+  j["leaks"] = {{{"x", 1.0}, {"position", "upstream"}}};
+  EXPECT_NE(error_of([&] { parse_scene(j, "s.json"); }).find("/leaks/0/position"),
+            std::string::npos);
+  j["leaks"] = {{{"x", 1.0}}};
+  j["terrain"]["water_level"] = -1.0;  // below the bed: no water anywhere
+  EXPECT_NE(error_of([&] { parse_scene(j, "s.json"); }).find("no water"), std::string::npos);
+  j.erase("terrain");
+  EXPECT_NE(error_of([&] { parse_scene(j, "s.json"); }).find("/leaks"), std::string::npos);
 }
 
 }  // namespace
