@@ -27,6 +27,10 @@ class Emitter {
 
   Index capacity() const { return Index(layer_.size()) * layers_; }
   Index emitted() const { return Index(layer_.size()) * emitted_layers_; }  // particles so far
+  // Oil volume released so far (m^3).
+  double oil_released() const {
+    return double(emitted()) * double(volume_) * double(mix_.oil_fraction);
+  }
   const std::vector<Vec3>& layer() const { return layer_; }  // outlet points, world coordinates
 
  private:

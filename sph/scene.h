@@ -429,6 +429,22 @@ struct LeakConfig {
   }
 };
 
+// A named place on the river (a water intake, a boom site) where the oil's arrival is timed.
+struct WatchPointConfig {
+  std::string name;
+  Real x = 0;
+  Real y = 0;
+  Real radius = Real(0.2);
+  template <class V>
+  void describe(V& v) {
+    v.field("name", name, param("", "Name reported in spill.json").require());
+    v.field("x", x, param("m", "Position along the flow").require());
+    v.field("y", y, param("m", "Position across the flow (+y: left bank)").require());
+    v.field("radius", radius,
+            param("m", "Oil within this distance (seen from above) has arrived").positive());
+  }
+};
+
 struct DomainConfig {
   Vec3 min = Vec3::Zero();
   Vec3 max = Vec3::Zero();
@@ -476,6 +492,7 @@ struct SceneConfig {
   std::optional<TerrainConfig> terrain;
   std::optional<FlowConfig> flow;
   std::vector<LeakConfig> leaks;
+  std::vector<WatchPointConfig> watch_points;
   // The terrain's height grid, loaded or generated when the scene is parsed (not a parameter).
   std::shared_ptr<const Terrain> terrain_grid;
 
@@ -525,6 +542,8 @@ struct SceneConfig {
     v.field("flow", flow, param("", "Inflow and outflow of a river reach (needs terrain)"));
     v.field("leaks", leaks,
             param("", "Oil leaks from pipelines crossing the river (need terrain)"));
+    v.field("watch_points", watch_points,
+            param("", "Named places whose oil arrival time spill.json reports"));
     v.field("domain", domain,
             param("",
                   "Simulation domain; particles leaving it stop the run (default: the "

@@ -1,5 +1,7 @@
 #include "sph/scene_runner.h"
 
+#include "sph/spill_metrics.h"
+
 #include <unistd.h>
 
 #include <chrono>
@@ -195,7 +197,21 @@ nlohmann::json run_scene(const LoadedScene& scene, const RunOptions& options) {
   if (options.png)
     renderer = std::make_unique<FrameRenderer>(sim.boundary().position, sim.domain(),
                                                scene.config.particle_radius);
+  // Spill metrics for scenes with a leak over terrain, measured from the most upstream leak.
+  std::unique_ptr<SpillMetrics> spill;
+  if (!scene.config.leaks.empty() && scene.config.terrain_grid) {
+    Real leak_x = scene.config.leaks[0].x;
+    for (const auto& leak : scene.config.leaks) leak_x = std::min(leak_x, leak.x);
+    spill = std::make_unique<SpillMetrics>(
+        *scene.config.terrain_grid, scene.config.terrain->water_level, leak_x,
+        scene.config.particle_diameter(), scene.config.watch_points);
+  }
   auto record = [&](int frame) {
+    if (spill) {
+      double released = 0;
+      for (const auto& e : sim.emitters()) released += e.oil_released();
+      spill->measure(sim.fluid(), sim.time(), released);
+    }
     std::vector<std::uint8_t> active(sim.fluid().size(), 0);
     for (Index i = 0; i < sim.fluid().active_count(); ++i) active[sim.fluid().id[i]] = 1;
     const FluidParticles& f = sim.fluid();
@@ -237,6 +253,11 @@ nlohmann::json run_scene(const LoadedScene& scene, const RunOptions& options) {
   nlohmann::json summary =
       summary_json(sim, wall_s, it_density / steps, it_divergence / steps, options.threads);
   write_json(staging.path / "stats.json", {{"frames", frame_list}, {"summary", summary}});
+  if (spill) {
+    write_json(staging.path / "spill.json", spill->to_json());
+    write_spill_plot((staging.path / "spill.svg").string(), spill->frames(),
+                     scene.config.name + ": spill metrics");
+  }
   if (options.log) progress.finish(std::to_string(sim.steps()) + " steps");
 
   if (fs::exists(out)) fs::remove_all(out);

@@ -128,6 +128,29 @@ TEST(RunOutputs, WritesTheDataContract) {
   fs::remove_all(dir);
 }
 
+// A river scene with a leak also writes its spill metrics (spill.json, one entry per frame) and
+// their plot (spill.svg).
+TEST(RunOutputs, RiverLeakWritesSpillMetrics) {
+  const fs::path dir = fresh_dir("spill_run_river");
+  RunOptions options;
+  options.out_dir = dir / "run";
+  const LoadedScene scene =
+      load_scene(std::string(SPILL_SOURCE_DIR) + "/configs/scenes/river_small.json",
+                 {"/end_time=0.4", "/leaks/0/start=0", "/leaks/0/duration=0.4",
+                  "/watch_points=[{\"name\": \"intake\", \"x\": 3.0, \"y\": 0.0}]"});
+  run_scene(scene, options);
+  std::ifstream in(options.out_dir / "spill.json");
+  ASSERT_TRUE(in);
+  const nlohmann::json spill = nlohmann::json::parse(in);
+  ASSERT_EQ(spill.at("frames").size(), 9u);  // t = 0, 0.05, ..., 0.4
+  for (const char* key : {"t", "slick_area_m2", "front_distance_m", "left_bank_oiled_m",
+                          "right_bank_oiled_m", "oil_released_m3", "oil_in_reach_m3"})
+    EXPECT_TRUE(spill["frames"][8].contains(key)) << key;
+  EXPECT_GT(spill["frames"][8]["oil_released_m3"].get<double>(), 0);
+  EXPECT_TRUE(spill.at("arrival_s").contains("intake"));
+  EXPECT_TRUE(fs::exists(options.out_dir / "spill.svg"));
+}
+
 TEST(RunOutputs, ExistingFolderIsNotClobberedWithoutForce) {
   const fs::path dir = fresh_dir("spill_run_clobber");
   fs::create_directories(dir / "run");
