@@ -21,7 +21,11 @@ struct Colour {
 // Axes of the picture: horizontal, vertical, and depth (toward the viewer is larger).
 void view_axes(ViewAxis axis, int& h, int& v, int& d) {
   h = 0;
-  if (axis == ViewAxis::kSide) {
+  if (axis == ViewAxis::kRiver) {
+    h = 1;  // y to the right
+    v = 0;  // x downward (see draw_points)
+    d = 2;  // looking down: larger z is nearer
+  } else if (axis == ViewAxis::kSide) {
     v = 2;
     d = 1;  // looking along +y: smaller y is nearer... we treat smaller y as nearer
   } else {
@@ -67,7 +71,8 @@ void draw_points(RgbImage& img, const Aabb& bounds, Real particle_radius, ViewAx
             [&](size_t a, size_t b) { return nearness(points[a]) < nearness(points[b]); });
   for (size_t i : order) {
     const float x = float(points[i][ah] - bounds.min[ah]) * scale;
-    const float y = float(img.height) - float(points[i][av] - bounds.min[av]) * scale;
+    const float along = float(points[i][av] - bounds.min[av]) * scale;
+    const float y = axis == ViewAxis::kRiver ? along : float(img.height) - along;
     draw_disc(img, x, y, radius, colour_of(i, nearness(points[i])));
   }
 }
@@ -77,10 +82,12 @@ void draw_points(RgbImage& img, const Aabb& bounds, Real particle_radius, ViewAx
 FrameRenderer::FrameRenderer(const std::vector<Vec3>& boundary, const Aabb& bounds,
                              Real particle_radius, int width)
     : bounds_(bounds), particle_radius_(particle_radius), width_(width) {
-  for (ViewAxis axis : {ViewAxis::kSide, ViewAxis::kTop}) {
+  for (ViewAxis axis : {ViewAxis::kSide, ViewAxis::kTop, ViewAxis::kRiver}) {
     RgbImage& img = background_[int(axis)];
     img = blank(axis);
-    draw_points(img, bounds_, particle_radius_, axis, boundary, [](size_t, float n) {
+    draw_points(img, bounds_, particle_radius_, axis, boundary, [axis](size_t, float n) {
+      // Terrain seen from above in earth tones, lighter where higher; walls grey.
+      if (axis == ViewAxis::kRiver) return Colour{120 + 100 * n, 105 + 85 * n, 70 + 60 * n};
       const float g = 150 + 60 * n;
       return Colour{g, g, g};
     });

@@ -1,7 +1,9 @@
 #pragma once
-// Orthographic pictures of a frame (PNG via libpng): a side view (x right, z up) and a
-// top view (x right, y up). Boundary particles are drawn grey behind the fluid; water is blue,
-// oil near-black, each shaded lighter toward the viewer so depth stays readable.
+// Orthographic pictures of a frame (PNG via libpng): a side view (x right, z up), a
+// top view (x right, y up) and, for rivers, a map view from above with the flow (+x) running
+// down the picture and so the left bank (+y) on the right, as river maps are drawn. Boundary
+// particles are drawn grey behind the fluid; water is blue, oil near-black, each shaded lighter
+// toward the viewer so depth stays readable.
 
 #include <cstdint>
 #include <string>
@@ -11,7 +13,7 @@
 
 namespace sph {
 
-enum class ViewAxis { kSide, kTop };
+enum class ViewAxis { kSide, kTop, kRiver };
 
 struct RgbImage {
   int width = 0, height = 0;
@@ -33,7 +35,7 @@ class FrameRenderer {
   Aabb bounds_;
   Real particle_radius_;
   int width_;
-  RgbImage background_[2];
+  RgbImage background_[3];
 };
 
 // Throws SimulationError naming the file when it cannot be written.

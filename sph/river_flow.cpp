@@ -12,7 +12,11 @@ namespace sph {
 
 RiverFlow::RiverFlow(const FlowConfig& config, const Terrain& terrain, Real water_level,
                      Real spacing, Real volume, const PhaseMix& water, double frame_dt)
-    : config_(config), volume_(volume), water_(water), cooldown_(2 * frame_dt) {
+    : config_(config),
+      volume_(volume),
+      water_(water),
+      cooldown_(2 * frame_dt),
+      floor_z_(terrain.min_height() - 2 * spacing) {
   // The cross-section on the lattice the terrain fill uses: columns spacing apart in y, stacked
   // from the highest ground under each particle's footprint up to the water level.
   const Real r = Real(0.5) * spacing, x = config.inflow_x;
@@ -82,7 +86,11 @@ void RiverFlow::after_step(FluidParticles& fluid, double t) {
     // free, the water accelerates into the gap the retirement leaves and the level drops for
     // several depths upstream of the outflow.
     if (x > outflow_start) fluid.velocity[i].x() = config_.speed;
-    if (x > config_.outflow_x) retiring_.push_back(i);
+    // Past the outflow, or fallen below the lowest ground: water that splashed over a bank and
+    // off the edge of the terrain has left the reach too.
+    const bool fell = fluid.position[i].z() < floor_z_;
+    fallen_ += fell;
+    if (x > config_.outflow_x || fell) retiring_.push_back(i);
   }
   // From the highest slot down: deactivate() moves the last active particle into the freed slot,
   // and that one has been looked at already.

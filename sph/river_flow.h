@@ -5,7 +5,9 @@
 // the `buffer` downstream of the plane every particle is held at that velocity, so the inflow
 // keeps a steady profile and the reach cannot push water back through it. Particles past
 // outflow_x are retired (active = 0); over the `buffer` upstream of that plane their velocity
-// along x is held at `speed` too, so the reach drains as fast as it fills. Retired water particles
+// along x is held at `speed` too, so the reach drains as fast as it fills. Particles that fall
+// two spacings below the lowest ground (over a bank and off an edge of the terrain) have left
+// the reach as well and are retired the same way. Retired water particles
 // return to the inflow's pool after two frames (so a recorded trajectory never shows a particle
 // jump from the outflow to the inflow between two frames in which it is active); oil stays retired,
 // so a particle never changes phase. The pool starts with `reserve_s` seconds of inflow.
@@ -34,6 +36,7 @@ class RiverFlow {
   void after_step(FluidParticles& fluid, double t);
 
   const std::vector<Vec3>& layer() const { return layer_; }
+  long fallen() const { return fallen_; }    // of the retired: those that left over a terrain edge
   long emitted() const { return emitted_; }  // particles activated at the inflow so far
   long retired() const { return retired_; }  // particles retired at the outflow so far
   Real inflow_rate() const;                  // m^3/s
@@ -50,7 +53,8 @@ class RiverFlow {
   std::vector<Vec3> layer_;
   double interval_ = 0;
   long emitted_layers_ = 0;
-  long emitted_ = 0, retired_ = 0;
+  long emitted_ = 0, retired_ = 0, fallen_ = 0;
+  Real floor_z_;  // below this a particle has left the reach over an edge of the terrain
   std::deque<PoolEntry> pool_;
   std::vector<Index> retiring_;
 };

@@ -9,7 +9,9 @@
 
 #include "sph/config_error.h"
 #include "sph/config_visitors.h"
+#include "sph/emitter.h"
 #include "sph/height_map_io.h"
+#include "sph/lattice.h"
 #include "sph/leak.h"
 #include "sph/river_generator.h"
 
@@ -161,10 +163,25 @@ LoadedScene parse_scene(nlohmann::json j, const std::string& file) {
   JsonReader::read_struct(j, file, "", out.config);
   if (out.config.terrain) out.config.terrain_grid = load_terrain(*out.config.terrain, file);
   check_consistency(out.config, file);
-  // A leak over dry ground or off the terrain is an error naming its /leaks entry.
-  for (size_t i = 0; i < out.config.leaks.size(); ++i)
-    leak_emitter(out.config.leaks[i], *out.config.terrain_grid, out.config.terrain->water_level,
-                 file, i);
+  // A leak over dry ground or off the terrain, or an outlet whose speed cannot carry its rate,
+  // is an error naming its entry.
+  const SceneConfig& c = out.config;
+  const Real spacing = c.particle_diameter();
+  const Real volume = lattice_rest_volume(
+      c.kernel == "wendland_c2" ? KernelKind::kWendlandC2 : KernelKind::kCubicSpline,
+      c.support_radius(), spacing);
+  auto check_outlet = [&](const EmitterConfig& e, const std::string& ptr) {
+    try {
+      Emitter(e, spacing, volume, PhaseMix{});
+    } catch (const std::invalid_argument& error) {
+      throw ConfigError(file, ptr + "/speed", error.what());
+    }
+  };
+  for (size_t i = 0; i < c.emitters.size(); ++i)
+    check_outlet(c.emitters[i], "/emitters/" + std::to_string(i));
+  for (size_t i = 0; i < c.leaks.size(); ++i)
+    check_outlet(leak_emitter(c.leaks[i], *c.terrain_grid, c.terrain->water_level, file, i),
+                 "/leaks/" + std::to_string(i));
   check_emitters_inside(out.config, file);
   out.resolved = JsonWriter::write_struct(out.config);
   return out;

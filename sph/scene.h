@@ -236,11 +236,13 @@ struct RiverGeneratorConfig {
   Real length = 8;
   Real width = 2;
   Real depth = Real(0.3);
-  Real bank_height = Real(0.15);
+  Real bank_height = Real(0.25);
   Real bank_slope = 1;
-  Real bend_amplitude = Real(0.6);
-  Real narrowing = Real(0.7);
-  Real widening = Real(1.4);
+  // Mild enough for a subcritical flow at 1.5 m/s and 0.3 m depth (Froude number 0.87): a
+  // narrowing to 0.7 choked it, and the water backed up behind it.
+  Real bend_amplitude = Real(0.4);
+  Real narrowing = Real(0.85);
+  Real widening = Real(1.25);
   Real bed_roughness = Real(0.03);
   Real floodplain = Real(0.2);
   Real cell_size = Real(0.05);

@@ -108,6 +108,9 @@ void write_pictures(const Simulation& sim, const FrameRenderer& renderer, const 
             renderer.render(fluid, types, ViewAxis::kSide));
   write_png((dir / frame_file("top", frame, "png")).string(),
             renderer.render(fluid, types, ViewAxis::kTop));
+  if (sim.scene().terrain_grid)
+    write_png((dir / frame_file("river", frame, "png")).string(),
+              renderer.render(fluid, types, ViewAxis::kRiver));
 }
 
 // Removes the staging folder unless the run succeeded and renamed it.
