@@ -7,6 +7,7 @@
 
 #include "sph/scene.h"
 #include "sph/simulation.h"
+#include "sph/spill_metrics.h"
 
 namespace sph {
 namespace {
@@ -99,6 +100,42 @@ TEST(River, LeakReleasesItsVolumeAndTheOilFloats) {
   EXPECT_NEAR(released / expected, 1, 0.02);
   EXPECT_GT(compared, 20);
   EXPECT_EQ(floating, compared);
+}
+
+// A leak at the left bank oils the left bank first, one at the right bank the right bank: the
+// property that tells river_case1.json from river_case3.json, checked on river_small.json (leak
+// from 1 s to 3 s, 4 s in all).
+TEST(River, BankLeaksOilTheirOwnBankFirst) {
+  auto first_contacts = [](const std::string& position) {
+    const LoadedScene scene = load_scene(kScenes + "river_small.json",
+                                         {"/end_time=4", "/leaks/0/start=1", "/leaks/0/duration=2",
+                                          "/leaks/0/position=\"" + position + "\""});
+    Simulation sim(scene.config);
+    SpillMetrics metrics(*scene.config.terrain_grid, scene.config.terrain->water_level,
+                         scene.config.leaks[0].x, scene.config.particle_diameter(), {});
+    const double frame_dt = double(scene.config.output.frame_dt);
+    for (int frame = 1; frame <= int(std::lround(4 / frame_dt)); ++frame) {
+      sim.advance_to(frame * frame_dt, frame);
+      metrics.measure(sim.fluid(), sim.time(), 0);
+    }
+    const nlohmann::json j = metrics.to_json();
+    std::cout << position << " leak: first contact with the left bank "
+              << j["first_left_bank_contact_s"] << " s, right bank "
+              << j["first_right_bank_contact_s"] << " s; oiled "
+              << metrics.frames().back().left_bank_m << " m left, "
+              << metrics.frames().back().right_bank_m << " m right\n";
+    auto time_or_never = [](const nlohmann::json& t) {
+      return t.is_null() ? 1e9 : t.get<double>();
+    };
+    return std::make_pair(time_or_never(j["first_left_bank_contact_s"]),
+                          time_or_never(j["first_right_bank_contact_s"]));
+  };
+  const auto left = first_contacts("left_bank");
+  EXPECT_LT(left.first, 4);
+  EXPECT_LT(left.first, left.second);
+  const auto right = first_contacts("right_bank");
+  EXPECT_LT(right.second, 4);
+  EXPECT_LT(right.second, right.first);
 }
 
 }  // namespace
