@@ -108,6 +108,16 @@ void TrajectoryWriter::append_rows(std::int64_t dataset, int rank,
   check(status, file_, "write a frame");
 }
 
+void TrajectoryWriter::append(double time, const float* position, const float* velocity,
+                              const std::uint8_t* active, const float* oil_fraction) {
+  append_rows(position_id_, 3, {particles_, 3}, H5T_NATIVE_FLOAT, position);
+  append_rows(velocity_id_, 3, {particles_, 3}, H5T_NATIVE_FLOAT, velocity);
+  append_rows(time_id_, 1, {}, H5T_NATIVE_DOUBLE, &time);
+  append_rows(active_id_, 2, {particles_}, H5T_NATIVE_UINT8, active);
+  append_rows(fraction_id_, 2, {particles_}, H5T_NATIVE_FLOAT, oil_fraction);
+  ++frames_;
+}
+
 void TrajectoryWriter::append(double time, const std::vector<Vec3>& position,
                               const std::vector<Vec3>& velocity,
                               const std::vector<std::uint8_t>& active,

@@ -31,6 +31,10 @@ class TrajectoryWriter {
   // Appends one frame; vectors are in identity order and of the particle count N.
   void append(double time, const std::vector<Vec3>& position, const std::vector<Vec3>& velocity,
               const std::vector<std::uint8_t>& active, const std::vector<Real>& oil_fraction);
+  // Appends one frame of contiguous float32 arrays in identity order (position and velocity
+  // [N, 3], oil fraction [N]), as the tensor recorder holds them.
+  void append(double time, const float* position, const float* velocity, const std::uint8_t* active,
+              const float* oil_fraction);
   // Flushes and closes; the destructor closes too, but only close() reports errors.
   void close();
 
