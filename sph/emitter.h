@@ -27,6 +27,9 @@ class Emitter {
 
   Index capacity() const { return Index(layer_.size()) * layers_; }
   Index emitted() const { return Index(layer_.size()) * emitted_layers_; }  // particles so far
+  Index emitted_layers() const { return emitted_layers_; }
+  // Continues from a saved state in which `layers` layers had been released.
+  void restore(Index layers) { emitted_layers_ = std::min(layers, layers_); }
   // Oil volume released so far (m^3).
   double oil_released() const {
     return double(emitted()) * double(volume_) * double(mix_.oil_fraction);

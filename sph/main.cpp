@@ -1,6 +1,6 @@
 // spill-sim: runs SPH scenes. A thin front over the sph library (see scene_runner.h).
 //   spill-sim run --scene FILE --out DIR [--set /pointer=value ...] [--threads N] [--ply] [--png]
-//                 [--force]
+//                 [--force] [--save-state-at T] [--initial-state FILE]
 //   spill-sim bench [--scene FILE] [--radius R ...] [--threads N] [--set ...]
 //   spill-sim bench --scene FILE --compare mtdf,dfsph [--repeat N] [--threads N] [--set ...]
 //   spill-sim generate --scene FILE --trajectories N --out DIR [--vary /pointer=LO:HI ...]
@@ -56,6 +56,12 @@ int main(int argc, char** argv) {
   run->add_flag("--ply", ply, "Write a PLY file per frame");
   run->add_flag("--png", png, "Write side- and top-view PNG pictures per frame");
   run->add_flag("--force", force, "Replace an existing output folder");
+  std::string initial_state;
+  double save_state_at = -1;
+  run->add_option("--initial-state", initial_state,
+                  "Continue from a state saved by --save-state-at (e.g. after a river's warm-up)");
+  run->add_option("--save-state-at", save_state_at,
+                  "Save the state at this frame time to DIR/state.h5");
 
   std::string bench_scene = "configs/scenes/dam_break.json";
   std::vector<double> radii;
@@ -121,6 +127,8 @@ int main(int argc, char** argv) {
       options.stop = &g_stop_requested;
       options.log = &std::cerr;
       options.terminal = isatty(STDERR_FILENO) != 0;
+      options.initial_state = initial_state;
+      options.save_state_at = save_state_at;
       const nlohmann::json summary = sph::run_scene(scene, options);
       std::cout << "wrote " << out_dir << ": " << summary["steps"] << " steps, "
                 << summary["fluid_particles"] << " fluid particles, "

@@ -42,6 +42,33 @@ Real RiverFlow::inflow_rate() const {
   return Real(double(volume_) * double(layer_.size()) / interval_);
 }
 
+nlohmann::json RiverFlow::state() const {
+  std::vector<Index> ids;
+  std::vector<double> free_from;
+  for (const auto& e : pool_) {
+    ids.push_back(e.id);
+    // JSON has no infinity: the initial reserve is free from the start.
+    free_from.push_back(std::isfinite(e.free_from) ? e.free_from : -1e300);
+  }
+  return {{"emitted_layers", emitted_layers_},
+          {"emitted", emitted_},
+          {"retired", retired_},
+          {"fallen", fallen_},
+          {"pool_ids", ids},
+          {"pool_free_from", free_from}};
+}
+
+void RiverFlow::restore(const nlohmann::json& s) {
+  emitted_layers_ = s.at("emitted_layers");
+  emitted_ = s.at("emitted");
+  retired_ = s.at("retired");
+  fallen_ = s.at("fallen");
+  const auto ids = s.at("pool_ids").get<std::vector<Index>>();
+  const auto free_from = s.at("pool_free_from").get<std::vector<double>>();
+  pool_.clear();
+  for (size_t k = 0; k < ids.size(); ++k) pool_.push_back({ids[k], free_from.at(k)});
+}
+
 void RiverFlow::allocate(FluidParticles& fluid) {
   const Vec3 velocity(config_.speed, 0, 0);
   for (size_t k = 0; k < pool_.size(); ++k) {

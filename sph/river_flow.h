@@ -13,6 +13,7 @@
 // so a particle never changes phase. The pool starts with `reserve_s` seconds of inflow.
 
 #include <deque>
+#include <nlohmann/json.hpp>
 #include <vector>
 
 #include "sph/particle_set.h"
@@ -40,6 +41,9 @@ class RiverFlow {
   long emitted() const { return emitted_; }  // particles activated at the inflow so far
   long retired() const { return retired_; }  // particles retired at the outflow so far
   Real inflow_rate() const;                  // m^3/s
+  // Progress and reserve, for saved simulation states.
+  nlohmann::json state() const;
+  void restore(const nlohmann::json& state);
 
  private:
   struct PoolEntry {

@@ -189,7 +189,26 @@ nlohmann::json run_scene(const LoadedScene& scene, const RunOptions& options) {
 
   Simulation sim(scene.config);
   const int frames = frame_count(scene.config);
-  write_json(staging.path / "metadata.json", run_metadata(sim, scene, frames));
+  const double frame_dt = shortest_decimal(scene.config.output.frame_dt);
+  if (!options.initial_state.empty()) sim.load_state(options.initial_state);
+  // A continued run records from the frame its state was saved at.
+  const int first = int(std::llround(sim.time() / frame_dt));
+  if (first >= frames)
+    throw SimulationError(options.initial_state +
+                          ": the state is at t = " + std::to_string(sim.time()) +
+                          " s, the scene ends at " + std::to_string(scene.config.end_time) + " s");
+  int save_frame = -1;
+  if (options.save_state_at >= 0) {
+    save_frame = int(std::llround(options.save_state_at / frame_dt));
+    if (std::abs(double(save_frame) * frame_dt - options.save_state_at) > 1e-9 * frames ||
+        save_frame < first || save_frame > frames)
+      throw SimulationError("--save-state-at " + std::to_string(options.save_state_at) +
+                            ": expected a frame time between " +
+                            std::to_string(double(first) * frame_dt) + " and " +
+                            std::to_string(scene.config.end_time) + " s (frames every " +
+                            std::to_string(frame_dt) + " s)");
+  }
+  write_json(staging.path / "metadata.json", run_metadata(sim, scene, frames - first));
 
   std::vector<std::int32_t> types(sim.fluid().size());
   for (Index i = 0; i < sim.fluid().size(); ++i)
@@ -234,20 +253,21 @@ nlohmann::json run_scene(const LoadedScene& scene, const RunOptions& options) {
 
   nlohmann::json frame_list = nlohmann::json::array();
   frame_list.push_back(frame_json(sim, FrameStats{}));
-  record(0);
+  record(first);
+  if (save_frame == first) sim.save_state((staging.path / "state.h5").string());
   ProgressReporter progress(options.log ? *options.log : std::cerr, options.terminal, frames,
                             "simulating " + scene.config.name);
   const auto t0 = std::chrono::steady_clock::now();
   double it_density = 0, it_divergence = 0;
-  for (int frame = 1; frame <= frames; ++frame) {
+  for (int frame = first + 1; frame <= frames; ++frame) {
     if (options.stop && options.stop->load())
       throw RunInterrupted("interrupted at frame " + std::to_string(frame) + "; nothing written");
-    const FrameStats f =
-        sim.advance_to(double(frame) * shortest_decimal(scene.config.output.frame_dt), frame);
+    const FrameStats f = sim.advance_to(double(frame) * frame_dt, frame);
     it_density += f.iterations_density * f.steps;
     it_divergence += f.iterations_divergence * f.steps;
     frame_list.push_back(frame_json(sim, f));
     record(frame);
+    if (frame == save_frame) sim.save_state((staging.path / "state.h5").string());
     if (options.log) progress.update(frame, frame_detail(sim, f));
   }
   const double wall_s = seconds_since(t0);

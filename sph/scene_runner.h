@@ -23,6 +23,8 @@ struct RunOptions {
   const std::atomic<bool>* stop = nullptr;  // set from a signal handler to interrupt
   std::ostream* log = nullptr;              // progress; nullptr for silence
   bool terminal = false;                    // progress as a redrawn bar
+  std::string initial_state;  // continue from this saved state (Simulation::load_state)
+  double save_state_at = -1;  // save the state at this frame time to out_dir/state.h5 (>= 0)
 };
 
 // Thrown when RunOptions::stop was set; the staging folder has been removed.

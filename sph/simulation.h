@@ -52,6 +52,14 @@ class Simulation : private SolverHost {
   const RiverFlow* flow() const { return flow_.get(); }  // nullptr without a `flow`
   double kinetic_energy() const;                         // J, of the active fluid
 
+  // The state of the run (every fluid particle, time, emitters' and river flow's progress) in an
+  // HDF5 file, to continue from later, e.g. a river after its warm-up (sph/simulation_state.cpp).
+  // Solver warm starts are not saved: a continued run converges from a cold start, so it follows
+  // the uninterrupted one closely but not bit for bit. load_state() throws ConfigError naming the
+  // file and the key when the state does not fit this scene.
+  void save_state(const std::string& file) const;
+  void load_state(const std::string& file);
+
   // A per-particle array of fluid() in identity order (index = particle id), for writers:
   // e.g. in_id_order(fluid().position).
   template <class T>
