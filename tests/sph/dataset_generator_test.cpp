@@ -20,8 +20,10 @@ namespace {
 
 namespace fs = std::filesystem;
 
-fs::path tiny_scene() {
-  const fs::path file = fs::temp_directory_path() / "spill_generate_tiny.json";
+// One scene file per test: ctest runs tests side by side, and a shared file could be read while
+// another test rewrites it.
+fs::path tiny_scene(const std::string& name) {
+  const fs::path file = fs::temp_directory_path() / (name + "_tiny.json");
   std::ofstream(file) << R"({
     "name": "tiny", "particle_radius": 0.02, "end_time": 0.2, "output": {"frame_dt": 0.02},
     "boxes": [{"min": [0, 0, 0], "max": [0.4, 0.4, 0.4]}],
@@ -31,7 +33,7 @@ fs::path tiny_scene() {
 
 GenerateOptions options(const std::string& dir) {
   GenerateOptions o;
-  o.scene_file = tiny_scene().string();
+  o.scene_file = tiny_scene(dir).string();
   o.trajectories = 3;
   o.out_dir = fs::temp_directory_path() / dir;
   o.vary = {parse_parameter_range("/fluid_blocks/0/velocity/0=0:1")};
