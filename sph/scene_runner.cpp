@@ -1,5 +1,6 @@
 #include "sph/scene_runner.h"
 
+#include "sph/animation.h"
 #include "sph/spill_metrics.h"
 
 #include <unistd.h>
@@ -276,6 +277,9 @@ nlohmann::json run_scene(const LoadedScene& scene, const RunOptions& options) {
   nlohmann::json summary =
       summary_json(sim, wall_s, it_density / steps, it_divergence / steps, options.threads);
   write_json(staging.path / "stats.json", {{"frames", frame_list}, {"summary", summary}});
+  if (options.png)
+    encode_animation(staging.path, scene.config.terrain_grid ? "river" : "side", first,
+                     1 / frame_dt, options.log);
   if (spill) {
     write_json(staging.path / "spill.json", spill->to_json());
     write_spill_plot((staging.path / "spill.svg").string(), spill->frames(),

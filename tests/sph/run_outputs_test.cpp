@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 #include <hdf5.h>
 
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 
@@ -149,6 +150,49 @@ TEST(RunOutputs, RiverLeakWritesSpillMetrics) {
   EXPECT_GT(spill["frames"][8]["oil_released_m3"].get<double>(), 0);
   EXPECT_TRUE(spill.at("arrival_s").contains("intake"));
   EXPECT_TRUE(fs::exists(options.out_dir / "spill.svg"));
+}
+
+// --png also encodes the frames into an MP4 when ffmpeg is installed; a stand-in ffmpeg records
+// how it is called. Without ffmpeg, or when it fails, the run still succeeds, with no MP4.
+TEST(RunOutputs, PngRunsBecomeAnAnimationWhenFfmpegIsThere) {
+  const fs::path dir = fresh_dir("spill_run_animation");
+  const fs::path bin = dir / "bin";
+  fs::create_directories(bin);
+  auto fake_ffmpeg = [&](int exit_code) {
+    std::ofstream(bin / "ffmpeg") << "#!/bin/sh\necho \"$@\" > \"" << (dir / "args.txt").string()
+                                  << "\"\nfor last; do :; done\necho video > \"$last\"\nexit "
+                                  << exit_code << "\n";
+    fs::permissions(bin / "ffmpeg", fs::perms::owner_all);
+  };
+  const std::string old_path = std::getenv("PATH") ? std::getenv("PATH") : "";
+  auto run = [&](const std::string& name) {
+    RunOptions options;
+    options.out_dir = dir / name;
+    options.png = true;
+    run_scene(parse_scene(small_scene(), "small.json"), options);
+    return options.out_dir;
+  };
+  setenv("PATH", (bin.string() + ":" + old_path).c_str(), 1);
+  fake_ffmpeg(0);
+  const fs::path with = run("with");
+  fake_ffmpeg(1);
+  const fs::path failing = run("failing");
+  setenv("PATH", bin.string().c_str(), 1);
+  fs::remove(bin / "ffmpeg");
+  const fs::path without = run("without");
+  setenv("PATH", old_path.c_str(), 1);
+
+  EXPECT_TRUE(fs::exists(with / "side.mp4"));
+  std::ifstream in(dir / "args.txt");
+  std::string args;
+  std::getline(in, args);
+  EXPECT_NE(args.find("-framerate 50"), std::string::npos) << args;  // frames 0.02 s apart
+  EXPECT_NE(args.find("-start_number 0"), std::string::npos) << args;
+  EXPECT_NE(args.find("side_%05d.png"), std::string::npos) << args;
+  EXPECT_FALSE(fs::exists(failing / "side.mp4"));
+  EXPECT_TRUE(fs::exists(failing / "stats.json"));
+  EXPECT_FALSE(fs::exists(without / "side.mp4"));
+  EXPECT_TRUE(fs::exists(without / "png" / "side_00005.png"));
 }
 
 TEST(RunOutputs, ExistingFolderIsNotClobberedWithoutForce) {
