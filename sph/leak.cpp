@@ -26,6 +26,8 @@ EmitterConfig leak_emitter(const LeakConfig& leak, const Terrain& t, Real water_
   Real y = Real(0.5) * (y_min + y_max);
   if (leak.position == "left_bank") y = y_max - Real(0.2) * width;
   if (leak.position == "right_bank") y = y_min + Real(0.2) * width;
+  // -1 and 1 are the bank positions above, a fifth of the width in from either bank.
+  if (leak.lateral) y = Real(0.5) * (y_min + y_max) + *leak.lateral * Real(0.3) * width;
   if (!t.is_water(leak.x, y) || t.height_at(leak.x, y) >= water_level)
     throw ConfigError(file, ptr + "/position", "the point under the leak is dry");
   EmitterConfig e;

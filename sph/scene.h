@@ -406,6 +406,7 @@ struct EmitterConfig {
 struct LeakConfig {
   Real x = 0;
   std::string position = "centre";
+  std::optional<Real> lateral;
   Real rate = Real(5e-4);
   Real start = 0;
   Real duration = 1;
@@ -421,6 +422,12 @@ struct LeakConfig {
                   "downstream), centre or right_bank; a bank leak is a fifth of the water "
                   "surface's width in from that bank")
                 .one_of({"left_bank", "centre", "right_bank"}));
+    v.field("lateral", lateral,
+            param("",
+                  "Instead of `position`, a number from -1 (right_bank) through 0 (centre) to "
+                  "1 (left_bank), so that datasets can draw it (--vary)")
+                .at_least(-1)
+                .at_most(1));
     v.field("rate", rate, param("m^3/s", "Oil leak rate").positive());
     v.field("start", start, param("s", "When the leak starts").non_negative());
     v.field("duration", duration, param("s", "How long it leaks").positive());

@@ -230,6 +230,13 @@ TEST(Leak, PositionsAcrossTheChannelAndPoursDownOntoTheWater) {
   EXPECT_NEAR(y_of("left_bank"), half - Real(0.2) * c.width, 2 * c.cell_size);
   EXPECT_NEAR(y_of("centre"), 0, c.cell_size);
   EXPECT_NEAR(y_of("right_bank"), -half + Real(0.2) * c.width, 2 * c.cell_size);
+  // The numeric form: -1 and 1 are the banks' positions, 0.5 halfway to the left one.
+  leak.lateral = 1;
+  EXPECT_NEAR(y_of("centre"), half - Real(0.2) * c.width, 2 * c.cell_size);
+  leak.lateral = -1;
+  EXPECT_NEAR(y_of("centre"), -half + Real(0.2) * c.width, 2 * c.cell_size);
+  leak.lateral = Real(0.5);
+  EXPECT_NEAR(y_of("centre"), Real(0.5) * (half - Real(0.2) * c.width), 2 * c.cell_size);
 }
 
 TEST(Leak, BadLeaksAreClearErrors) {
