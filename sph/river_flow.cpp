@@ -17,18 +17,13 @@ RiverFlow::RiverFlow(const FlowConfig& config, const Terrain& terrain, Real wate
       water_(water),
       cooldown_(2 * frame_dt),
       floor_z_(terrain.min_height() - 2 * spacing) {
-  // The cross-section on the lattice the terrain fill uses: columns spacing apart in y, stacked
-  // from the highest ground under each particle's footprint up to the water level.
+  // The cross-section on the lattice the terrain fill uses: water columns spacing apart in y.
   const Real r = Real(0.5) * spacing, x = config.inflow_x;
   const int ny = int(std::floor((terrain.max_y() - terrain.origin_y) / spacing + Real(1e-4)));
   for (int iy = 0; iy < ny; ++iy) {
     const Real y = terrain.origin_y + r + Real(iy) * spacing;
     if (!terrain.is_water(x, y)) continue;
-    Real ground = terrain.height_at(x, y);
-    for (const Real dx : {-r, r})
-      for (const Real dy : {-r, r}) ground = std::max(ground, terrain.height_at(x + dx, y + dy));
-    for (Real z = ground + r; z <= water_level - r + Real(0.5) * spacing; z += spacing)
-      layer_.emplace_back(x, y, z);
+    for (Real z : water_column(terrain, x, y, r, water_level)) layer_.emplace_back(x, y, z);
   }
   if (layer_.empty())
     throw std::invalid_argument("the inflow plane x = " + std::to_string(x) +

@@ -32,20 +32,16 @@ void Simulation::fill_terrain_with_water(Real volume) {
   const MaterialsConfig& m = scene_.materials;
   const PhaseMix water =
       mix_phases(0, m.water.density, m.water.viscosity, m.oil.density, m.oil.viscosity);
-  // Columns of particles stacked from the ground up: the lowest cell rests on the highest ground
-  // under its footprint, so the bed has no voids for the water to slump into (a lattice anchored
-  // anywhere else leaves gaps of up to a spacing over an uneven bed, and the water dropped half a
-  // spacing and sloshed at the start). The top layer lies within half a spacing of the level.
+  // Columns stacked from the ground up (water_column): a lattice anchored anywhere else leaves
+  // gaps of up to a spacing over an uneven bed, and the water dropped half a spacing and sloshed
+  // at the start.
   const int nx = int(std::floor((t.max_x() - t.origin_x) / spacing + Real(1e-4)));
   const int ny = int(std::floor((t.max_y() - t.origin_y) / spacing + Real(1e-4)));
   for (int iy = 0; iy < ny; ++iy)
     for (int ix = 0; ix < nx; ++ix) {
       const Real x = t.origin_x + r + Real(ix) * spacing, y = t.origin_y + r + Real(iy) * spacing;
       if (!t.is_water(x, y)) continue;
-      Real ground = t.height_at(x, y);
-      for (const Real dx : {-r, r})
-        for (const Real dy : {-r, r}) ground = std::max(ground, t.height_at(x + dx, y + dy));
-      for (Real z = ground + r; z <= level - r + Real(0.5) * spacing; z += spacing)
+      for (Real z : water_column(t, x, y, r, level))
         fluid_.add(Vec3(x, y, z), scene_.terrain->fill_velocity, volume, water);
     }
 }

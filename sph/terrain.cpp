@@ -29,4 +29,13 @@ Real Terrain::max_height() const {
   return *std::max_element(height.begin(), height.end());
 }
 
+std::vector<Real> water_column(const Terrain& t, Real x, Real y, Real r, Real level) {
+  Real ground = t.height_at(x, y);
+  for (const Real dx : {-r, r})
+    for (const Real dy : {-r, r}) ground = std::max(ground, t.height_at(x + dx, y + dy));
+  std::vector<Real> heights;
+  for (Real z = ground + r; z <= level; z += 2 * r) heights.push_back(z);
+  return heights;
+}
+
 }  // namespace sph

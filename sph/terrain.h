@@ -30,4 +30,10 @@ struct Terrain {
   Real max_height() const;
 };
 
+// Centre heights of a column of water particles of `radius` at (x, y), for filling a river and
+// for its inflow layers: stacked from the highest ground under the particle's footprint (so the
+// lowest one rests on the bed without overlapping it on a slope) up to the last one within half a
+// spacing of `level`. Empty where the ground is too high.
+std::vector<Real> water_column(const Terrain& terrain, Real x, Real y, Real radius, Real level);
+
 }  // namespace sph
