@@ -55,21 +55,27 @@ nlohmann::json summary_json(const Simulation& sim, double wall_s, double iterati
                             double iterations_divergence, int threads) {
   const TimeSplit& t = sim.timing();
   const double particle_steps = double(sim.steps()) * double(sim.fluid().active_count());
-  return {{"wall_s", wall_s},
-          {"steps", sim.steps()},
-          {"simulated_s", sim.time()},
-          {"fluid_particles", sim.fluid().active_count()},
-          {"boundary_particles", sim.boundary().size()},
-          {"particle_steps_per_s", wall_s > 0 ? particle_steps / wall_s : 0.0},
-          {"iterations_density_avg", iterations_density},
-          {"iterations_divergence_avg", iterations_divergence},
-          {"threads", threads},
-          {"time_split",
-           {{"neighbour_search", t.neighbour_search},
-            {"pressure_solve", t.pressure_solve},
-            {"mixture_model", t.mixture_model},
-            {"forces", t.forces},
-            {"other", t.other()}}}};
+  nlohmann::json summary = {{"wall_s", wall_s},
+                            {"steps", sim.steps()},
+                            {"simulated_s", sim.time()},
+                            {"fluid_particles", sim.fluid().active_count()},
+                            {"boundary_particles", sim.boundary().size()},
+                            {"particle_steps_per_s", wall_s > 0 ? particle_steps / wall_s : 0.0},
+                            {"iterations_density_avg", iterations_density},
+                            {"iterations_divergence_avg", iterations_divergence},
+                            {"threads", threads},
+                            {"time_split",
+                             {{"neighbour_search", t.neighbour_search},
+                              {"pressure_solve", t.pressure_solve},
+                              {"mixture_model", t.mixture_model},
+                              {"forces", t.forces},
+                              {"other", t.other()}}}};
+  // A river's particle budget: entered at the inflow, retired at the outflow, and of those
+  // retired, fallen off an edge of the terrain (splashes over a bank).
+  if (const RiverFlow* flow = sim.flow())
+    summary["flow"] = {
+        {"emitted", flow->emitted()}, {"retired", flow->retired()}, {"fallen", flow->fallen()}};
+  return summary;
 }
 
 std::string frame_detail(const Simulation& sim, const FrameStats& f) {
