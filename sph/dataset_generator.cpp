@@ -3,6 +3,7 @@
 #include <hdf5.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
@@ -17,6 +18,7 @@
 #include "sph/scene.h"
 #include "sph/scene_runner.h"
 #include "sph/simulation.h"
+#include "sph/stopwatch.h"
 #include "sph/trajectory_writer.h"
 
 namespace sph {
@@ -151,13 +153,18 @@ nlohmann::json simulate_part(const GenerateOptions& options, const LoadedScene& 
     previous = std::move(position);
     active_previous = std::move(active);
   };
+  // Wall time of simulating the recorded frames (not the warm-up): what a learned simulator
+  // that rolls the same frames forward is compared against.
+  double recorded_wall_s = 0;
   for (int frame = 1; frame <= last; ++frame) {
     if (frame - 1 == first) record();  // the state at the first recorded frame
     if (options.stop && options.stop->load())
       throw RunInterrupted("interrupted in trajectory " + std::to_string(index) +
                            "; finished trajectories are kept in " +
                            (options.out_dir / "parts").string());
+    const auto frame_start = std::chrono::steady_clock::now();
     sim.advance_to(double(frame) * frame_dt, frame);
+    if (frame > first) recorded_wall_s += seconds_since(frame_start);
     if (frame > first) record();
     if (options.log) {
       std::ostringstream t;
@@ -175,6 +182,8 @@ nlohmann::json simulate_part(const GenerateOptions& options, const LoadedScene& 
           {"particles", sim.fluid().size()},
           {"frames", last - first + 1},
           {"first_frame_time", double(first) * frame_dt},
+          {"sph_wall_s", recorded_wall_s},
+          {"sph_seconds_per_frame", last > first ? recorded_wall_s / (last - first) : 0.0},
           {"velocity_moments", velocity.to_json()},
           {"acceleration_moments", acceleration.to_json()}};
 }

@@ -11,6 +11,7 @@
 #include "sph/config_visitors.h"
 #include "sph/emitter.h"
 #include "sph/height_map_io.h"
+#include "sph/json_file.h"
 #include "sph/lattice.h"
 #include "sph/leak.h"
 #include "sph/river_generator.h"
@@ -188,32 +189,8 @@ LoadedScene parse_scene(nlohmann::json j, const std::string& file) {
 }
 
 LoadedScene load_scene(const std::string& file, const std::vector<std::string>& overrides) {
-  std::ifstream in(file);
-  if (!in) throw ConfigError(file, "", "cannot open the scene file");
-  nlohmann::json j;
-  try {
-    j = nlohmann::json::parse(in, nullptr, true, /*ignore_comments=*/true);
-  } catch (const nlohmann::json::parse_error& e) {
-    throw ConfigError(file, "", std::string("not valid JSON: ") + e.what());
-  }
-  for (const auto& o : overrides) {
-    const auto eq = o.find('=');
-    if (eq == std::string::npos || o.empty() || o[0] != '/')
-      throw ConfigError(file, o, "a --set override must look like /json/pointer=value");
-    const std::string ptr = o.substr(0, eq);
-    const std::string text = o.substr(eq + 1);
-    nlohmann::json value;
-    try {
-      value = nlohmann::json::parse(text);
-    } catch (const nlohmann::json::parse_error&) {
-      value = text;  // not JSON: take it as a string, e.g. --set /solver=wcsph
-    }
-    try {
-      j[nlohmann::json::json_pointer(ptr)] = value;
-    } catch (const nlohmann::json::exception& e) {
-      throw ConfigError(file, ptr, std::string("cannot apply --set: ") + e.what());
-    }
-  }
+  nlohmann::json j = load_json_file(file, "scene file");
+  apply_overrides(j, overrides, file);
   return parse_scene(std::move(j), file);
 }
 
