@@ -1,0 +1,31 @@
+#include "gnn/runtime.h"
+
+#include <dlfcn.h>
+#include <malloc.h>
+#include <omp.h>
+#include <sys/resource.h>
+#include <torch/torch.h>
+
+namespace gnn {
+
+void configure_runtime(const RuntimeSettings& settings) {
+  // 1 GiB: every tensor of a step stays in the heap instead of being mmap'ed and unmapped.
+  mallopt(M_MMAP_THRESHOLD, 1 << 30);
+  mallopt(M_TRIM_THRESHOLD, 1 << 30);
+  const int threads = settings.threads > 0 ? settings.threads : 1;
+  torch::set_num_threads(threads);
+  omp_set_num_threads(threads);
+  // Looked up at run time: the BLAS behind LibTorch is chosen by Debian's alternatives and may
+  // not be OpenBLAS at all.
+  using SetThreads = void (*)(int);
+  if (auto set_blas = reinterpret_cast<SetThreads>(dlsym(RTLD_DEFAULT, "openblas_set_num_threads")))
+    set_blas(settings.blas_threads > 0 ? settings.blas_threads : threads);
+}
+
+double peak_memory_mib() {
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  return double(usage.ru_maxrss) / 1024.0;  // Linux reports KiB
+}
+
+}  // namespace gnn

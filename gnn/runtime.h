@@ -1,0 +1,23 @@
+#pragma once
+// Process set-up for LibTorch work on a CPU, done once at the start of spill-train, spill-infer
+// and the benchmarks:
+//  - threads: LibTorch's first operation drops OpenMP to one thread (which also throttles the
+//    simulator's own loops), and OpenBLAS keeps a pool of its own that torch::set_num_threads
+//    does not reach, so all three are set together;
+//  - allocator: glibc's malloc hands large blocks back to the OS after every step, so the
+//    gather/scatter-heavy graph code page-faults its tensors in again each step (2-4x slower);
+//    raising the mmap and trim thresholds keeps them in the heap.
+
+namespace gnn {
+
+struct RuntimeSettings {
+  int threads = 2;       // LibTorch intra-op and OpenMP threads
+  int blas_threads = 0;  // OpenBLAS threads; 0 = the same as `threads`
+};
+
+void configure_runtime(const RuntimeSettings& settings);
+
+// Peak resident memory of this process so far, in MiB.
+double peak_memory_mib();
+
+}  // namespace gnn
