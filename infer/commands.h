@@ -1,0 +1,39 @@
+#pragma once
+// The subcommands of spill-infer.
+
+#include <ostream>
+#include <string>
+
+namespace infer {
+
+struct CommonOptions {
+  std::string checkpoint;
+  std::string data_dir;
+  std::string split = "test";
+  std::string out_dir;
+  std::ostream* log = nullptr;
+  int threads = 2;
+};
+
+struct RolloutOptions {
+  CommonOptions common;
+  int trajectory = 0;
+  int from = 5;
+  int frames = 0;  // 0 = to the end of the recording
+  int png_every = 5;
+};
+
+struct EvalOptions {
+  CommonOptions common;
+  int from = 5;
+  int frames = 0;  // 0 = to the end of each recording
+};
+
+// Predicted trajectory in the data contract (OUT/rollout.h5, OUT/metadata.json), side-by-side
+// top views (OUT/frames/), and timing against the SPH (OUT/timing.json).
+void run_rollout(const RolloutOptions& options);
+
+// Accuracy and speed over every trajectory of a split: OUT/eval.json and OUT/error_vs_horizon.svg.
+void run_eval(const EvalOptions& options);
+
+}  // namespace infer

@@ -1,0 +1,66 @@
+// spill-infer: runs a trained learned simulator.
+//   spill-infer rollout --checkpoint C --data DIR --split test --trajectory K --from T0
+//                       --frames F --out OUT
+//   spill-infer eval    --checkpoint C --data DIR --split test --out OUT
+#include <CLI/CLI.hpp>
+#include <iostream>
+
+#include "gnn/checkpoint.h"
+#include "gnn/dataset.h"
+#include "gnn/runtime.h"
+#include "infer/commands.h"
+#include "sph/config_error.h"
+
+namespace {
+void add_common(CLI::App* c, infer::CommonOptions& o) {
+  c->add_option("--checkpoint", o.checkpoint, "checkpoint (*.pt) written by spill-train")
+      ->required();
+  c->add_option("--data", o.data_dir, "dataset folder (metadata.json and <split>.h5)")
+      ->required()
+      ->check(CLI::ExistingDirectory);
+  c->add_option("--split", o.split, "split to run on")
+      ->check(CLI::IsMember({"train", "valid", "test"}));
+  c->add_option("--out", o.out_dir, "output folder")->required();
+  c->add_option("--threads", o.threads, "LibTorch, OpenMP and BLAS threads")
+      ->check(CLI::PositiveNumber);
+}
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"Roll out and evaluate a learned particle simulator"};
+  app.require_subcommand(1);
+  infer::RolloutOptions rollout;
+  auto* r = app.add_subcommand("rollout", "predict a trajectory and draw it beside the truth");
+  add_common(r, rollout.common);
+  r->add_option("--trajectory", rollout.trajectory, "trajectory index in the split");
+  r->add_option("--from", rollout.from, "recorded frame to start from");
+  r->add_option("--frames", rollout.frames, "frames to predict (default: to the end)");
+  r->add_option("--png-every", rollout.png_every, "draw every n-th frame");
+  infer::EvalOptions eval;
+  auto* e = app.add_subcommand("eval", "accuracy and speed over every trajectory of a split");
+  add_common(e, eval.common);
+  e->add_option("--from", eval.from, "recorded frame each rollout starts from");
+  e->add_option("--frames", eval.frames, "frames per rollout (default: to the end)");
+  CLI11_PARSE(app, argc, argv);
+  try {
+    if (r->parsed()) {
+      gnn::configure_runtime({rollout.common.threads, 0});
+      rollout.common.log = &std::cerr;
+      infer::run_rollout(rollout);
+    } else {
+      gnn::configure_runtime({eval.common.threads, 0});
+      eval.common.log = &std::cerr;
+      infer::run_eval(eval);
+    }
+  } catch (const gnn::CheckpointError& e) {
+    std::cerr << "spill-infer: checkpoint error: " << e.what() << "\n";
+    return 2;
+  } catch (const gnn::DatasetError& e) {
+    std::cerr << "spill-infer: dataset error: " << e.what() << "\n";
+    return 2;
+  } catch (const std::exception& e) {
+    std::cerr << "spill-infer: " << e.what() << "\n";
+    return 1;
+  }
+  return 0;
+}

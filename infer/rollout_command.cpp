@@ -1,0 +1,111 @@
+#include <filesystem>
+#include <fstream>
+#include <iomanip>
+#include <numeric>
+#include <sstream>
+
+#include "gnn/rollout.h"
+#include "infer/commands.h"
+#include "infer/loaded_data.h"
+#include "infer/side_by_side.h"
+#include "sph/progress.h"
+#include "sph/tensor_recorder.h"
+
+namespace infer {
+namespace fs = std::filesystem;
+
+void run_rollout(const RolloutOptions& o) {
+  LoadedData d = load_data(o.common);
+  if (o.trajectory < 0 || o.trajectory >= int(d.trajectories.size()))
+    throw std::invalid_argument("--trajectory " + std::to_string(o.trajectory) + ": the " +
+                                o.common.split + " split has " +
+                                std::to_string(d.trajectories.size()) + " trajectories");
+  const gnn::Trajectory& t = d.trajectories[size_t(o.trajectory)];
+  const int64_t available = t.frames() - 1 - o.from;
+  if (o.from < 0 || available < 1)
+    throw std::invalid_argument("--from " + std::to_string(o.from) + ": " + t.source + " has " +
+                                std::to_string(t.frames()) + " frames");
+  const int64_t frames = o.frames > 0 ? std::min<int64_t>(o.frames, available) : available;
+  if (o.frames > available)
+    throw std::invalid_argument("--frames " + std::to_string(o.frames) + ": only " +
+                                std::to_string(available) + " frames follow frame " +
+                                std::to_string(o.from) + " in " + t.source);
+
+  std::unique_ptr<sph::ProgressReporter> progress;
+  if (o.common.log)
+    progress = std::make_unique<sph::ProgressReporter>(*o.common.log, false, frames, "rollout");
+  auto r =
+      gnn::rollout(*d.checkpoint.simulator, t, o.from, frames, d.metadata.frame_dt, [&](int64_t k) {
+        if (progress) progress->update(k, "");
+      });
+  if (progress) progress->finish("");
+
+  // Everything is written to OUT.tmp and renamed at the end: no half output on failure.
+  const fs::path out = o.common.out_dir, tmp = o.common.out_dir + ".tmp";
+  if (fs::exists(out) && !fs::is_empty(out) && !fs::exists(out / "timing.json"))
+    throw std::invalid_argument("--out " + out.string() +
+                                ": exists and is not an earlier rollout; choose another folder");
+  fs::remove_all(tmp);
+  fs::create_directories(tmp / "frames");
+  sph::RecordedTrajectory rec;
+  rec.time = t.time.slice(0, o.from, o.from + frames + 1).clone();
+  rec.position = r.position;
+  auto velocity = (r.position.slice(0, 1) - r.position.slice(0, 0, frames)) / d.metadata.frame_dt;
+  rec.velocity = torch::cat({t.velocity[o.from].unsqueeze(0), velocity});
+  rec.active = r.active.to(torch::kUInt8);
+  rec.volume_fraction = (t.particle_type == gnn::kOil)
+                            .to(torch::kFloat32)
+                            .unsqueeze(0)
+                            .expand({frames + 1, -1})
+                            .contiguous();
+  rec.particle_type = t.particle_type.to(torch::kInt32);
+  rec.boundary_position = t.boundary;
+  const std::string group = t.source.substr(t.source.rfind('/') + 1);
+  sph::write_trajectory((tmp / "rollout.h5").string(), group, rec);
+
+  nlohmann::json metadata = d.metadata.raw;
+  metadata["rollout"] = {{"checkpoint", o.common.checkpoint},
+                         {"model", d.checkpoint.simulator->model().name()},
+                         {"source", t.source},
+                         {"from_frame", o.from},
+                         {"frames", frames},
+                         {"note",
+                          "predicted positions of the learned simulator; particles enter "
+                          "and leave on the recorded schedule; volume_fraction is the "
+                          "particle's phase (not predicted)"}};
+  metadata["sequence_length"] = frames + 1;
+  std::ofstream(tmp / "metadata.json") << metadata.dump(2) << "\n";
+
+  SideBySideRenderer renderer(t, d.metadata);
+  for (int64_t k = 0; k <= frames; ++k) {
+    if (k % std::max(o.png_every, 1) != 0 && k != frames) continue;
+    std::ostringstream name;
+    name << "compare_" << std::setw(4) << std::setfill('0') << (o.from + k) << ".png";
+    renderer.write((tmp / "frames" / name.str()).string(), t.position[o.from + k],
+                   t.active[o.from + k], r.position[k], r.active[k]);
+  }
+
+  const double wall = std::accumulate(r.frame_seconds.begin(), r.frame_seconds.end(), 0.0);
+  nlohmann::json timing = {
+      {"frames", frames},
+      {"threads", o.common.threads},
+      {"wall_s", wall},
+      {"wall_s_per_frame", wall / double(frames)},
+      {"frame_seconds", r.frame_seconds},
+      {"sph_seconds_per_frame", t.sph_seconds_per_frame},
+      {"speedup_over_sph",
+       t.sph_seconds_per_frame > 0 ? t.sph_seconds_per_frame / (wall / double(frames)) : 0.0},
+      {"note",
+       "wall time of the learned simulator per frame, graph building included; "
+       "sph_seconds_per_frame is the SPH's time for the same frames when the dataset "
+       "was generated (0 when the dataset does not record it)"}};
+  std::ofstream(tmp / "timing.json") << timing.dump(2) << "\n";
+  fs::remove_all(out);
+  fs::rename(tmp, out);
+  if (o.common.log)
+    *o.common.log << "rollout of " << frames << " frames (" << std::setprecision(3)
+                  << wall / double(frames) << " s per frame; SPH " << t.sph_seconds_per_frame
+                  << " s) written to " << out.string() << "\n";
+}
+
+}  // namespace infer

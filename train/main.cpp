@@ -1,0 +1,60 @@
+// spill-train: trains a learned simulator on a dataset of the data contract.
+//   spill-train --config configs/training/gns_smoke.json --data DIR --out RUN
+//               [--resume] [--threads N] [--set /pointer=value ...]
+#include <unistd.h>
+
+#include <CLI/CLI.hpp>
+#include <iostream>
+
+#include "gnn/checkpoint.h"
+#include "gnn/dataset.h"
+#include "gnn/runtime.h"
+#include "sph/config_error.h"
+#include "train/trainer.h"
+
+int main(int argc, char** argv) {
+  CLI::App app{"Train a learned particle simulator (GNS) on spill trajectories"};
+  train::TrainerOptions options;
+  int threads = 2;
+  int blas_threads = 0;
+  app.add_option("--config", options.config_file, "training config (configs/training/*.json)")
+      ->required()
+      ->check(CLI::ExistingFile);
+  app.add_option("--data", options.data_dir,
+                 "dataset folder (metadata.json, train.h5, valid.h5) from spill-sim generate")
+      ->required()
+      ->check(CLI::ExistingDirectory);
+  app.add_option("--out", options.out_dir, "run folder: log.csv, loss.svg, last.pt")->required();
+  app.add_flag("--resume", options.resume, "continue from RUN/last.pt");
+  app.add_option("--threads", threads, "LibTorch, OpenMP and BLAS threads")
+      ->check(CLI::PositiveNumber);
+  app.add_option("--blas-threads", blas_threads,
+                 "OpenBLAS threads (default: the same as --threads)")
+      ->check(CLI::PositiveNumber);
+  app.add_option("--set", options.overrides,
+                 "override a training config value: /pointer=value (e.g. /steps=200, "
+                 "/model/latent=64)");
+  CLI11_PARSE(app, argc, argv);
+  gnn::configure_runtime({threads, blas_threads});
+  options.log = &std::cerr;
+  options.terminal = isatty(2);
+  try {
+    train::Trainer trainer(options);
+    const double loss = trainer.run();
+    std::cout << "trained to step " << trainer.step() << ", loss " << loss << "; run in "
+              << options.out_dir << "\n";
+  } catch (const sph::ConfigError& e) {
+    std::cerr << "spill-train: config error: " << e.what() << "\n";
+    return 2;
+  } catch (const gnn::DatasetError& e) {
+    std::cerr << "spill-train: dataset error: " << e.what() << "\n";
+    return 2;
+  } catch (const gnn::CheckpointError& e) {
+    std::cerr << "spill-train: checkpoint error: " << e.what() << "\n";
+    return 2;
+  } catch (const std::exception& e) {
+    std::cerr << "spill-train: " << e.what() << "\n";
+    return 1;
+  }
+  return 0;
+}

@@ -1,0 +1,279 @@
+#include "train/trainer.h"
+
+#include <ATen/CPUGeneratorImpl.h>
+
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <iomanip>
+#include <sstream>
+
+#include "gnn/frame_window.h"
+#include "gnn/noise.h"
+#include "gnn/rollout.h"
+#include "gnn/svg_plot.h"
+#include "sph/config_visitors.h"
+#include "sph/progress.h"
+
+namespace train {
+namespace fs = std::filesystem;
+
+namespace {
+
+const char* kLogHeader = "step,loss,lr,elapsed_s,steps_per_s,valid_one_step_loss,valid_rollout_mse";
+
+std::string checkpoint_path(const std::string& dir) {
+  return (fs::path(dir) / "last.pt").string();
+}
+
+// Keeps the header and the rows up to `step` (rows after the checkpoint are redone on resume).
+void truncate_log(const std::string& file, int64_t step) {
+  std::ifstream in(file);
+  std::vector<std::string> keep;
+  std::string line;
+  while (std::getline(in, line)) {
+    if (keep.empty()) {
+      keep.push_back(line);
+      continue;
+    }
+    if (std::stoll(line.substr(0, line.find(','))) <= step) keep.push_back(line);
+  }
+  in.close();
+  std::ofstream out(file, std::ios::trunc);
+  for (const auto& l : keep) out << l << "\n";
+}
+
+}  // namespace
+
+Trainer::Trainer(TrainerOptions options) : options_(std::move(options)) {
+  config_ = load_training_config(options_.config_file, options_.overrides);
+  metadata_ = gnn::read_metadata((fs::path(options_.data_dir) / "metadata.json").string());
+  train_ = gnn::read_split(options_.data_dir, "train", metadata_);
+  valid_ = gnn::read_split(options_.data_dir, "valid", metadata_);
+  for (const auto& t : train_)
+    if (t.frames() < gnn::kWindow + 1 + config_.training.pushforward_steps)
+      throw gnn::DatasetError(t.source + ": too few frames for a training window");
+  const std::string last = checkpoint_path(options_.out_dir);
+  if (options_.resume) {
+    if (!fs::exists(last))
+      throw gnn::CheckpointError(last + ": nothing to resume (no checkpoint in the run folder)");
+    auto loaded = gnn::load_checkpoint(last, config_.model_json.value("model", ""));
+    gnn::check_data_fits(loaded.data, metadata_, last);
+    // The run goes on with its own stored configs; only the step count may be raised.
+    const int steps = config_.training.steps;
+    const std::string stored = loaded.state.training_config.dump();
+    config_.training_json = loaded.state.training_config;
+    nlohmann::json t = loaded.state.training_config;
+    t.erase("model");
+    sph::JsonReader::read_struct(t, last, "/training_config", config_.training);
+    config_.training.steps = steps;
+    config_.training_json["steps"] = steps;
+    simulator_ = std::move(loaded.simulator);
+    state_ = loaded.state;
+    state_.training_config = config_.training_json;
+  } else {
+    if (fs::exists(last))
+      throw std::runtime_error(options_.out_dir +
+                               " already holds a training run (last.pt): use --resume to "
+                               "continue it, or another --out");
+    // The initial weights come from LibTorch's global generator: seeded, so that a run is
+    // reproducible from its config.
+    torch::manual_seed(uint64_t(config_.training.seed));
+    auto model = gnn::make_model(config_.model_json, config_.model_file);
+    simulator_ = std::make_unique<gnn::LearnedSimulator>(
+        model, gnn::Normalisation::from_metadata(metadata_, model->noise_std()), metadata_.bounds);
+    state_.training_config = config_.training_json;
+  }
+  optimizer_ = std::make_unique<torch::optim::Adam>(
+      simulator_->model().parameters(), torch::optim::AdamOptions(config_.training.lr_max));
+  noise_generator_ = at::make_generator<at::CPUGeneratorImpl>(uint64_t(config_.training.seed));
+  sampler_.seed(uint64_t(config_.training.seed));
+  if (options_.resume) {
+    gnn::load_optimizer_state(last, *optimizer_);
+    std::istringstream(state_.sampler_state) >> sampler_;
+    if (state_.noise_generator_state.defined())
+      noise_generator_.set_state(state_.noise_generator_state);
+  }
+}
+
+TrainingBatch Trainer::sample_batch() {
+  const auto& c = config_.training;
+  const int64_t push = c.pushforward_steps;
+  std::vector<gnn::GraphInput> graphs;
+  std::vector<torch::Tensor> targets, masks;
+  for (int b = 0; b < c.batch_size; ++b) {
+    const auto& t = train_[std::uniform_int_distribution<size_t>(0, train_.size() - 1)(sampler_)];
+    // Loss frame: a full window of recorded history behind the pushed-forward start.
+    const int64_t frame =
+        std::uniform_int_distribution<int64_t>(gnn::kWindow - 1 + push, t.frames() - 2)(sampler_);
+    auto ids = gnn::active_ids(t, frame - push);
+    if (push > 0) {  // only particles present through the whole unroll
+      auto present = t.active.slice(0, frame - push, frame + 2).index_select(1, ids).all(0);
+      ids = ids.index({present});
+    }
+    auto history = gnn::position_history(t, frame - push, ids, metadata_.frame_dt);
+    auto type = t.particle_type.index_select(0, ids);
+    for (int64_t k = 0; k < push; ++k) {
+      auto next = simulator_->next_position({history, type, t.material, t.boundary});
+      history = torch::cat({history.slice(1, 1), next.unsqueeze(1)}, 1);
+    }
+    history = gnn::random_walk_noise(history, simulator_->model().noise_std(), noise_generator_);
+    auto next = t.position[frame + 1].index_select(0, ids);
+    gnn::FrameNodes nodes{history, type, t.material, t.boundary};
+    graphs.push_back(simulator_->encode(nodes));
+    targets.push_back(simulator_->normalise_acceleration(gnn::target_acceleration(history, next)));
+    masks.push_back(t.active[frame + 1].index_select(0, ids));
+  }
+  return {gnn::join_graphs(graphs), torch::cat(targets), torch::cat(masks)};
+}
+
+torch::Tensor Trainer::loss(const TrainingBatch& batch) {
+  auto predicted = simulator_->model().forward(batch.graph).index({batch.graph.fluid});
+  return (predicted - batch.target).pow(2).index({batch.mask}).mean();
+}
+
+void Trainer::validate(double& one_step_loss, double& rollout_mse) {
+  torch::NoGradGuard no_grad;
+  const auto& c = config_.training;
+  double sum = 0;
+  int count = 0;
+  // Fixed frames spread over the valid trajectories, without noise: the same set every time.
+  for (int k = 0; k < c.validation_samples; ++k) {
+    const auto& t = valid_[size_t(k) % valid_.size()];
+    const int64_t span = t.frames() - 1 - gnn::kWindow;
+    const int64_t frame =
+        gnn::kWindow - 1 +
+        (span * (k / int(valid_.size()) + 1)) / (c.validation_samples / int(valid_.size()) + 2);
+    auto ids = gnn::active_ids(t, frame);
+    auto history = gnn::position_history(t, frame, ids, metadata_.frame_dt);
+    gnn::FrameNodes nodes{history, t.particle_type.index_select(0, ids), t.material, t.boundary};
+    auto target = simulator_->normalise_acceleration(
+        gnn::target_acceleration(history, t.position[frame + 1].index_select(0, ids)));
+    auto keep = t.active[frame + 1].index_select(0, ids);
+    sum +=
+        (simulator_->predict_normalised(nodes) - target).pow(2).index({keep}).mean().item<double>();
+    ++count;
+  }
+  one_step_loss = sum / count;
+  const auto& t = valid_.front();
+  const int64_t frames = std::min<int64_t>(c.validation_rollout_frames, t.frames() - gnn::kWindow);
+  auto r = gnn::rollout(*simulator_, t, gnn::kWindow - 1, frames, metadata_.frame_dt);
+  auto last = r.position[frames];
+  auto truth = t.position[gnn::kWindow - 1 + frames];
+  rollout_mse = (last - truth).pow(2).index({r.active[frames]}).mean().item<double>();
+}
+
+void Trainer::save(const std::string& path) {
+  std::ostringstream s;
+  s << sampler_;
+  state_.sampler_state = s.str();
+  state_.noise_generator_state = noise_generator_.get_state();
+  gnn::save_checkpoint(path, *simulator_, gnn::describe_data(metadata_), state_, optimizer_.get());
+}
+
+void Trainer::write_loss_plot() const {
+  std::ifstream in((fs::path(options_.out_dir) / "log.csv").string());
+  std::string line;
+  std::getline(in, line);
+  gnn::PlotSeries train{"training loss", {}, {}}, valid{"valid one-step", {}, {}};
+  while (std::getline(in, line)) {
+    std::vector<std::string> cells;
+    std::stringstream row(line);
+    for (std::string cell; std::getline(row, cell, ',');) cells.push_back(cell);
+    if (cells.size() < 2) continue;
+    train.x.push_back(std::stod(cells[0]));
+    train.y.push_back(std::stod(cells[1]));
+    if (cells.size() > 5 && !cells[5].empty()) {
+      valid.x.push_back(std::stod(cells[0]));
+      valid.y.push_back(std::stod(cells[5]));
+    }
+  }
+  gnn::write_line_plot((fs::path(options_.out_dir) / "loss.svg").string(),
+                       "Training of " + simulator_->model().name(), "step",
+                       "MSE of normalised acceleration", {train, valid}, true);
+}
+
+double Trainer::run() {
+  const auto& c = config_.training;
+  fs::create_directories(options_.out_dir);
+  const std::string log_file = (fs::path(options_.out_dir) / "log.csv").string();
+  if (options_.resume && fs::exists(log_file)) {
+    truncate_log(log_file, state_.step);
+  } else {
+    std::ofstream(log_file, std::ios::trunc) << kLogHeader << "\n";
+    std::ofstream((fs::path(options_.out_dir) / "config.json").string())
+        << nlohmann::json{{"training", config_.training_json},
+                          {"model", simulator_->model().config()},
+                          {"data", options_.data_dir}}
+               .dump(2)
+        << "\n";
+  }
+  std::ofstream log(log_file, std::ios::app);
+  log << std::setprecision(9);
+  std::unique_ptr<sph::ProgressReporter> progress;
+  if (options_.log)
+    progress = std::make_unique<sph::ProgressReporter>(*options_.log, options_.terminal, c.steps,
+                                                       "training");
+  const auto start = std::chrono::steady_clock::now();
+  const double elapsed_before = state_.elapsed_s;
+  auto elapsed = [&] {
+    return elapsed_before +
+           std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  };
+  double loss_sum = 0, last_loss = 0;
+  int loss_count = 0;
+  double window_start = elapsed();
+  simulator_->model().train();
+  while (state_.step < c.steps) {
+    const double lr = learning_rate(c, state_.step);
+    for (auto& group : optimizer_->param_groups())
+      static_cast<torch::optim::AdamOptions&>(group.options()).lr(lr);
+    auto batch = sample_batch();
+    optimizer_->zero_grad();
+    auto l = loss(batch);
+    l.backward();
+    optimizer_->step();
+    ++state_.step;
+    const double value = l.item<double>();
+    if (!std::isfinite(value))
+      throw std::runtime_error("training diverged: the loss is " + std::to_string(value) +
+                               " at step " + std::to_string(state_.step));
+    loss_sum += value;
+    ++loss_count;
+    const bool validate_now = state_.step % c.validate_every == 0 || state_.step == c.steps;
+    if (state_.step % c.log_every == 0 || validate_now) {
+      last_loss = loss_sum / loss_count;
+      const double now = elapsed();
+      log << state_.step << "," << last_loss << "," << lr << "," << now << ","
+          << loss_count / std::max(now - window_start, 1e-9) << ",";
+      if (validate_now) {
+        double one_step = 0, rollout = 0;
+        validate(one_step, rollout);
+        simulator_->model().train();
+        log << one_step << "," << rollout;
+      } else {
+        log << ",";
+      }
+      log << "\n" << std::flush;
+      if (progress) {
+        std::ostringstream d;
+        d << std::setprecision(3) << "loss " << last_loss << " lr " << lr << " "
+          << loss_count / std::max(now - window_start, 1e-9) << " steps/s";
+        progress->update(state_.step, d.str());
+      }
+      loss_sum = 0;
+      loss_count = 0;
+      window_start = elapsed();
+    }
+    if (state_.step % c.checkpoint_every == 0 || state_.step == c.steps) {
+      state_.elapsed_s = elapsed();
+      log.flush();
+      save(checkpoint_path(options_.out_dir));
+      write_loss_plot();
+    }
+  }
+  if (progress) progress->finish("step " + std::to_string(state_.step));
+  return last_loss;
+}
+
+}  // namespace train

@@ -1,0 +1,44 @@
+#include "train/training_config.h"
+
+#include <cmath>
+#include <filesystem>
+
+#include "gnn/graph_model.h"
+#include "sph/config_visitors.h"
+#include "sph/json_file.h"
+
+namespace train {
+
+ResolvedConfig load_training_config(const std::string& file,
+                                    const std::vector<std::string>& overrides) {
+  nlohmann::json j = sph::load_json_file(file, "training config");
+  sph::apply_overrides(j, overrides, file);
+  if (!j.is_object()) throw sph::ConfigError(file, "", "expected a JSON object");
+  nlohmann::json model_overrides = nlohmann::json::object();
+  if (j.contains("model")) {
+    model_overrides = j["model"];
+    if (!model_overrides.is_object())
+      throw sph::ConfigError(file, "/model", "expected an object of model config keys");
+    j.erase("model");
+  }
+  ResolvedConfig out;
+  sph::JsonReader::read_struct(j, file, "", out.training);
+  out.training_json = sph::JsonWriter::write_struct(out.training);
+  out.training_json["model"] = model_overrides;
+  out.model_file =
+      (std::filesystem::path(file).parent_path() / out.training.model_config).lexically_normal();
+  out.model_json = sph::load_json_file(out.model_file, "model config");
+  if (!out.model_json.is_object())
+    throw sph::ConfigError(out.model_file, "", "expected a JSON object");
+  out.model_json.merge_patch(model_overrides);
+  // Validates every model key now (unknown key, range), before any output exists.
+  out.model_json =
+      gnn::make_model(out.model_json, out.model_file + " with " + file + ":/model")->config();
+  return out;
+}
+
+double learning_rate(const TrainingConfig& c, int64_t step) {
+  return (c.lr_max - c.lr_min) * std::pow(0.1, double(step) / double(c.decay_steps)) + c.lr_min;
+}
+
+}  // namespace train
