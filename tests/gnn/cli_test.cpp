@@ -1,0 +1,66 @@
+// spill-train and spill-infer as a user runs them: outputs, exit codes and errors.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+
+#include "tests/gnn/tiny_dataset.h"
+
+namespace fs = std::filesystem;
+
+namespace {
+int run(const std::string& command) {
+  const int status = std::system((command + " > /dev/null 2>&1").c_str());
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+}  // namespace
+
+TEST(Cli, TrainRollOutAndEvaluateOnATinyDataset) {
+  const fs::path dir = fs::temp_directory_path() / ("gnn_cli_" + std::to_string(getpid()));
+  fs::remove_all(dir);
+  tiny::write(dir / "data");
+  const std::string data = (dir / "data").string(), run_dir = (dir / "run").string();
+  const std::string train = std::string(SPILL_TRAIN_EXE) + " --config " + SPILL_SOURCE_DIR +
+                            "/configs/training/gns_smoke.json --data " + data + " --threads 1";
+  ASSERT_EQ(run(train + " --out " + run_dir + " --set /steps=30"), 0);
+  std::ifstream log(run_dir + "/log.csv");
+  std::string header;
+  std::getline(log, header);
+  EXPECT_NE(header.find("loss"), std::string::npos);
+  ASSERT_TRUE(fs::exists(run_dir + "/last.pt"));
+
+  const std::string infer = std::string(SPILL_INFER_EXE);
+  const std::string ckpt = " --checkpoint " + run_dir + "/last.pt --data " + data + " --threads 1";
+  ASSERT_EQ(run(infer + " eval" + ckpt + " --out " + (dir / "eval").string()), 0);
+  nlohmann::json eval;
+  std::ifstream(dir / "eval/eval.json") >> eval;
+  EXPECT_TRUE(eval.contains("one_step_mse"));
+  for (const char* h : {"1", "5", "10", "all"}) EXPECT_TRUE(eval["rollout_mse"].contains(h)) << h;
+  EXPECT_TRUE(fs::exists(dir / "eval/error_vs_horizon.svg"));
+
+  ASSERT_EQ(run(infer + " rollout" + ckpt + " --trajectory 0 --from 5 --frames 10 --out " +
+                (dir / "rollout").string()),
+            0);
+  EXPECT_TRUE(fs::exists(dir / "rollout/rollout.h5"));
+  EXPECT_TRUE(fs::exists(dir / "rollout/frames/compare_0015.png"));
+  nlohmann::json timing;
+  std::ifstream(dir / "rollout/timing.json") >> timing;
+  EXPECT_GT(timing["wall_s_per_frame"].get<double>(), 0);
+
+  // Bad input: a non-zero exit and no output.
+  std::ofstream(dir / "bad.pt") << "garbage";
+  EXPECT_NE(run(infer + " eval --checkpoint " + (dir / "bad.pt").string() + " --data " + data +
+                " --out " + (dir / "bad_eval").string()),
+            0);
+  EXPECT_FALSE(fs::exists(dir / "bad_eval"));
+  EXPECT_NE(run(train + " --out " + (dir / "bad_run").string() + " --set /modle=1"), 0);
+  EXPECT_FALSE(fs::exists(dir / "bad_run"));
+  EXPECT_NE(run(infer + " rollout" + ckpt + " --trajectory 0 --from 5 --frames 500 --out " +
+                (dir / "bad_rollout").string()),
+            0);
+  EXPECT_FALSE(fs::exists(dir / "bad_rollout"));
+  fs::remove_all(dir);
+}

@@ -1,0 +1,198 @@
+// The learning pipeline's inputs: dataset reader, radius graph, noise and configs.
+#include <ATen/CPUGeneratorImpl.h>
+#include <gtest/gtest.h>
+#include <hdf5.h>
+
+#include <unistd.h>
+#include <filesystem>
+#include <fstream>
+#include <set>
+
+#include "gnn/dataset.h"
+#include "gnn/frame_window.h"
+#include "gnn/graph_model.h"
+#include "gnn/noise.h"
+#include "gnn/radius_graph.h"
+#include "sph/config_error.h"
+#include "tests/gnn/tiny_dataset.h"
+#include "train/training_config.h"
+
+namespace fs = std::filesystem;
+
+namespace {
+fs::path temp_dir(const std::string& name) {
+  fs::path p = fs::temp_directory_path() / ("gnn_test_" + name + "_" + std::to_string(getpid()));
+  fs::remove_all(p);
+  fs::create_directories(p);
+  return p;
+}
+
+std::set<std::pair<int64_t, int64_t>> edge_set(const gnn::RadiusGraph& g) {
+  std::set<std::pair<int64_t, int64_t>> s;
+  auto e = g.edge_index.accessor<int64_t, 2>();
+  for (int64_t k = 0; k < g.edge_index.size(1); ++k) s.insert({e[0][k], e[1][k]});
+  return s;
+}
+}  // namespace
+
+TEST(Dataset, ReadsBackTheTinyDatasetWithItsShapesAndTypes) {
+  const fs::path dir = temp_dir("read");
+  tiny::write(dir);
+  auto m = gnn::read_metadata((dir / "metadata.json").string());
+  auto train = gnn::read_split(dir.string(), "train", m);
+  ASSERT_EQ(train.size(), 1u);
+  const auto& t = train[0];
+  EXPECT_EQ(t.position.sizes(), (std::vector<int64_t>{tiny::kFrames, tiny::kParticles, 3}));
+  EXPECT_EQ(t.velocity.sizes(), t.position.sizes());
+  EXPECT_EQ(t.active.scalar_type(), torch::kBool);
+  EXPECT_EQ(t.particle_type.scalar_type(), torch::kInt64);
+  EXPECT_EQ(t.boundary.size(0), 21 * 21);
+  EXPECT_EQ(t.active[0].sum().item<int64_t>(), tiny::kParticles - tiny::kEmitted);
+  EXPECT_EQ(t.active[tiny::kEmitFrame].sum().item<int64_t>(), tiny::kParticles);
+  // Oil is 0.94 x water's density and 4 x its viscosity: features (ratio - 1).
+  EXPECT_NEAR(t.material[1][0].item<float>(), -0.06f, 1e-6);
+  EXPECT_NEAR(t.material[1][1].item<float>(), 3.0f, 1e-6);
+  EXPECT_DOUBLE_EQ(t.sph_seconds_per_frame, 0.01);
+  fs::remove_all(dir);
+}
+
+TEST(Dataset, AMissingDatasetIsAnErrorNamingTheFileAndGroup) {
+  const fs::path dir = temp_dir("missing");
+  tiny::write(dir);
+  const std::string file = (dir / "valid.h5").string();
+  hid_t f = H5Fopen(file.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
+  ASSERT_GE(f, 0);
+  H5Ldelete(f, "/00000/position", H5P_DEFAULT);
+  H5Fclose(f);
+  auto m = gnn::read_metadata((dir / "metadata.json").string());
+  try {
+    gnn::read_split(dir.string(), "valid", m);
+    FAIL() << "no error";
+  } catch (const gnn::DatasetError& e) {
+    EXPECT_NE(std::string(e.what()).find(file + ":/00000"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("position"), std::string::npos) << e.what();
+  }
+  std::ofstream(dir / "test.h5", std::ios::trunc) << "not hdf5";
+  EXPECT_THROW(gnn::read_split(dir.string(), "test", m), gnn::DatasetError);
+  fs::remove_all(dir);
+}
+
+TEST(Dataset, MetadataWithoutStatisticsIsAnError) {
+  const fs::path dir = temp_dir("meta");
+  tiny::write(dir);
+  nlohmann::json m;
+  std::ifstream(dir / "metadata.json") >> m;
+  m.erase("acc_std");
+  std::ofstream(dir / "metadata.json", std::ios::trunc) << m.dump();
+  try {
+    gnn::read_metadata((dir / "metadata.json").string());
+    FAIL() << "no error";
+  } catch (const gnn::DatasetError& e) {
+    EXPECT_NE(std::string(e.what()).find("acc_std"), std::string::npos) << e.what();
+  }
+  fs::remove_all(dir);
+}
+
+TEST(FrameWindow, EmittedParticlesGetAHistoryAlongTheirLaunchVelocity) {
+  const fs::path dir = temp_dir("window");
+  tiny::write(dir);
+  auto m = gnn::read_metadata((dir / "metadata.json").string());
+  auto t = gnn::read_split(dir.string(), "train", m)[0];
+  const int64_t p = tiny::kParticles - 1, frame = tiny::kEmitFrame + 2;
+  auto h = gnn::position_history(t, frame, torch::tensor({p}), tiny::kFrameDt)[0];
+  // Recorded positions from the emission frame on, extrapolated before it.
+  EXPECT_TRUE(torch::equal(h[5], t.position[frame][p]));
+  EXPECT_TRUE(torch::equal(h[3], t.position[tiny::kEmitFrame][p]));
+  auto step = t.velocity[tiny::kEmitFrame][p] * float(tiny::kFrameDt);
+  EXPECT_TRUE(torch::allclose(h[2], t.position[tiny::kEmitFrame][p] - step, 0, 1e-6));
+  EXPECT_TRUE(torch::allclose(h[0], t.position[tiny::kEmitFrame][p] - 3 * step, 0, 1e-6));
+  fs::remove_all(dir);
+}
+
+TEST(RadiusGraph, GridEqualsBruteForce) {
+  torch::manual_seed(3);
+  for (double radius : {0.08, 0.15}) {
+    auto fluid = torch::rand({1000, 3});
+    auto boundary = torch::rand({300, 3}) * torch::tensor({1.4f, 1.4f, 0.2f}) - 0.2f;
+    auto grid = gnn::build_radius_graph(fluid, boundary, radius);
+    auto brute = gnn::brute_force_radius_graph(fluid, boundary, radius);
+    EXPECT_TRUE(torch::equal(grid.boundary_nodes, brute.boundary_nodes));
+    EXPECT_GT(grid.boundary_nodes.size(0), 0);
+    EXPECT_LT(grid.boundary_nodes.size(0), 300);
+    EXPECT_EQ(edge_set(grid), edge_set(brute));
+    EXPECT_GT(grid.edge_index.size(1), 1000);
+    // Both directions of every pair; no boundary-boundary pairs.
+    for (const auto& [s, r] : edge_set(grid)) {
+      EXPECT_TRUE(edge_set(grid).count({r, s}));
+      EXPECT_TRUE(s < 1000 || r < 1000);
+      break;
+    }
+    auto e = grid.edge_index;
+    EXPECT_EQ(((e[0] >= 1000) & (e[1] >= 1000)).sum().item<int64_t>(), 0);
+    EXPECT_EQ(edge_set(grid).size(), size_t(e.size(1)));
+  }
+}
+
+TEST(Noise, RandomWalkHasTheStatedStatisticsAndTheTargetUndoesIt) {
+  const double noise_std = 0.01;
+  auto history = torch::zeros({20000, 6, 3});
+  auto generator = at::make_generator<at::CPUGeneratorImpl>(5);
+  auto noisy = gnn::random_walk_noise(history, noise_std, generator);
+  auto velocity = noisy.slice(1, 1) - noisy.slice(1, 0, 5);  // [n, 5, 3]
+  auto increments = velocity.slice(1, 1) - velocity.slice(1, 0, 4);
+  // Each velocity step gets std noise_std / sqrt(5); the last velocity is off by noise_std.
+  EXPECT_NEAR(increments.std().item<double>(), noise_std / std::sqrt(5.0),
+              0.03 * noise_std / std::sqrt(5.0));
+  EXPECT_NEAR(velocity.select(1, 4).std().item<double>(), noise_std, 0.03 * noise_std);
+  EXPECT_NEAR(velocity.select(1, 0).std().item<double>(), noise_std / std::sqrt(5.0),
+              0.03 * noise_std / std::sqrt(5.0));
+  EXPECT_EQ(noisy.select(1, 0).abs().max().item<double>(), 0.0);
+  // The corrected target takes the noisy state to the true next position.
+  auto next = torch::randn({20000, 3}) * 0.01;
+  auto a = gnn::target_acceleration(noisy, next);
+  auto last = noisy.select(1, 5), previous = noisy.select(1, 4);
+  EXPECT_TRUE(torch::allclose(last + (last - previous) + a, next, 0, 1e-6));
+}
+
+TEST(Configs, EveryShippedModelAndTrainingConfigLoads) {
+  const fs::path root = SPILL_SOURCE_DIR;
+  int count = 0;
+  for (const auto& e : fs::directory_iterator(root / "configs/models")) {
+    auto j = nlohmann::json::parse(std::ifstream(e.path()));
+    EXPECT_NO_THROW(gnn::make_model(j, e.path().string())) << e.path();
+    ++count;
+  }
+  for (const auto& e : fs::directory_iterator(root / "configs/training")) {
+    EXPECT_NO_THROW(train::load_training_config(e.path().string(), {})) << e.path();
+    ++count;
+  }
+  EXPECT_GE(count, 3);
+}
+
+TEST(Configs, AnUnknownKeyIsAnErrorNamingFileAndKey) {
+  const fs::path root = SPILL_SOURCE_DIR;
+  const std::string file = (root / "configs/training/gns_smoke.json").string();
+  try {
+    train::load_training_config(file, {"/learning_rate=0.1"});
+    FAIL() << "no error";
+  } catch (const sph::ConfigError& e) {
+    EXPECT_EQ(e.file(), file);
+    EXPECT_EQ(e.pointer(), "/learning_rate");
+  }
+  try {
+    train::load_training_config(file, {"/model/latnet=3"});
+    FAIL() << "no error";
+  } catch (const sph::ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("/latnet"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("gns.json"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(train::load_training_config(file, {"/steps=-3"}), sph::ConfigError);
+  EXPECT_THROW(gnn::make_model({{"model", "pagatnet"}}, "x.json"), sph::ConfigError);
+}
+
+TEST(Schedule, LearningRateDecaysFromMaxToMin) {
+  train::TrainingConfig c;
+  EXPECT_DOUBLE_EQ(train::learning_rate(c, 0), 1e-4);
+  EXPECT_NEAR(train::learning_rate(c, c.decay_steps), (1e-4 - 1e-6) * 0.1 + 1e-6, 1e-15);
+  EXPECT_NEAR(train::learning_rate(c, 100 * int64_t(c.decay_steps)), 1e-6, 1e-12);
+}

@@ -1,0 +1,171 @@
+// Models, checkpoints, rollout and the training loop, on the tiny dataset.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "gnn/checkpoint.h"
+#include "gnn/frame_window.h"
+#include "gnn/rollout.h"
+#include "tests/gnn/tiny_dataset.h"
+#include "train/trainer.h"
+
+namespace fs = std::filesystem;
+
+namespace {
+
+fs::path temp_dir(const std::string& name) {
+  fs::path p = fs::temp_directory_path() / ("gnn_model_" + name + "_" + std::to_string(getpid()));
+  fs::remove_all(p);
+  fs::create_directories(p);
+  return p;
+}
+
+const std::string kSmoke = std::string(SPILL_SOURCE_DIR) + "/configs/training/gns_smoke.json";
+
+struct Tiny {
+  fs::path dir;
+  gnn::DatasetMetadata metadata;
+  gnn::Trajectory trajectory;
+  explicit Tiny(const std::string& name) : dir(temp_dir(name)) {
+    tiny::write(dir);
+    metadata = gnn::read_metadata((dir / "metadata.json").string());
+    trajectory = gnn::read_split(dir.string(), "test", metadata)[0];
+  }
+  ~Tiny() { fs::remove_all(dir); }
+  std::unique_ptr<gnn::LearnedSimulator> simulator() const {
+    auto model = gnn::make_model(
+        {{"model", "gns"}, {"latent", 16}, {"layers", 2}, {"mlp_hidden_layers", 1}}, "test");
+    return std::make_unique<gnn::LearnedSimulator>(
+        model, gnn::Normalisation::from_metadata(metadata, model->noise_std()), metadata.bounds);
+  }
+  gnn::FrameNodes frame(int64_t f) const {
+    auto ids = gnn::active_ids(trajectory, f);
+    return {gnn::position_history(trajectory, f, ids, metadata.frame_dt),
+            trajectory.particle_type.index_select(0, ids), trajectory.material,
+            trajectory.boundary};
+  }
+};
+
+// log.csv rows without the timing columns (elapsed_s, steps_per_s).
+std::vector<std::string> log_rows_without_timing(const fs::path& file) {
+  std::ifstream in(file);
+  std::vector<std::string> rows;
+  for (std::string line; std::getline(in, line);) {
+    std::vector<std::string> cells;
+    std::stringstream s(line);
+    for (std::string c; std::getline(s, c, ',');) cells.push_back(c);
+    while (cells.size() < 7) cells.push_back("");
+    rows.push_back(cells[0] + "," + cells[1] + "," + cells[2] + "," + cells[5] + "," + cells[6]);
+  }
+  return rows;
+}
+
+train::TrainerOptions options(const Tiny& data, const fs::path& out, int steps,
+                              std::vector<std::string> extra = {}) {
+  train::TrainerOptions o;
+  o.config_file = kSmoke;
+  o.data_dir = data.dir.string();
+  o.out_dir = out.string();
+  o.overrides = {"/steps=" + std::to_string(steps)};
+  for (auto& e : extra) o.overrides.push_back(e);
+  return o;
+}
+
+}  // namespace
+
+TEST(Checkpoint, RoundTripGivesIdenticalOutputs) {
+  Tiny data("roundtrip");
+  auto sim = data.simulator();
+  auto frame = data.frame(10);
+  torch::NoGradGuard no_grad;
+  auto before = sim->predict_normalised(frame);
+  const std::string file = (data.dir / "model.pt").string();
+  gnn::TrainingState state;
+  state.step = 7;
+  gnn::save_checkpoint(file, *sim, gnn::describe_data(data.metadata), state, nullptr);
+  auto loaded = gnn::load_checkpoint(file);
+  EXPECT_EQ(loaded.state.step, 7);
+  auto after = loaded.simulator->predict_normalised(frame);
+  EXPECT_TRUE(torch::equal(before, after)) << (before - after).abs().max().item<float>();
+  EXPECT_TRUE(
+      torch::equal(sim->normalisation().acc_std, loaded.simulator->normalisation().acc_std));
+}
+
+TEST(Checkpoint, ACheckpointOfAnotherModelOrNoneAtAllIsAClearError) {
+  Tiny data("badckpt");
+  auto sim = data.simulator();
+  const std::string file = (data.dir / "model.pt").string();
+  gnn::save_checkpoint(file, *sim, gnn::describe_data(data.metadata), {}, nullptr);
+  try {
+    gnn::load_checkpoint(file, std::string("pagatnet"));
+    FAIL() << "no error";
+  } catch (const gnn::CheckpointError& e) {
+    EXPECT_NE(std::string(e.what()).find(file), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("gns"), std::string::npos) << e.what();
+  }
+  const std::string junk = (data.dir / "junk.pt").string();
+  std::ofstream(junk) << "not a checkpoint";
+  EXPECT_THROW(gnn::load_checkpoint(junk), gnn::CheckpointError);
+  EXPECT_THROW(gnn::load_checkpoint((data.dir / "none.pt").string()), gnn::CheckpointError);
+  // Data of another particle size does not fit the checkpoint.
+  auto other = data.metadata;
+  other.particle_radius = 0.05;
+  EXPECT_THROW(gnn::check_data_fits(gnn::describe_data(data.metadata), other, file),
+               gnn::CheckpointError);
+}
+
+TEST(Rollout, ReplaysTheRecordedEmissionSchedule) {
+  Tiny data("rollout");
+  auto sim = data.simulator();
+  const int64_t from = 5, frames = tiny::kFrames - 1 - from;
+  auto r = gnn::rollout(*sim, data.trajectory, from, frames, data.metadata.frame_dt);
+  ASSERT_EQ(r.position.size(0), frames + 1);
+  for (int64_t k = 0; k <= frames; ++k)
+    EXPECT_TRUE(torch::equal(r.active[k], data.trajectory.active[from + k])) << "frame " << k;
+  // Emitted particles enter exactly where and when the recording has them.
+  const int64_t k = tiny::kEmitFrame - from;
+  auto emitted = torch::arange(tiny::kParticles - tiny::kEmitted, tiny::kParticles);
+  EXPECT_TRUE(torch::equal(r.position[k].index_select(0, emitted),
+                           data.trajectory.position[tiny::kEmitFrame].index_select(0, emitted)));
+  // ... and afterwards move by the model, not by the recording.
+  EXPECT_FALSE(
+      torch::equal(r.position[k + 2].index_select(0, emitted),
+                   data.trajectory.position[tiny::kEmitFrame + 2].index_select(0, emitted)));
+  EXPECT_EQ(r.frame_seconds.size(), size_t(frames));
+}
+
+TEST(Training, OverfitsATinyDatasetLossFallsTenfold) {
+  Tiny data("overfit");
+  const fs::path out = data.dir / "run";
+  train::Trainer trainer(options(data, out, 300, {"/model/noise_std=0"}));
+  trainer.run();
+  auto rows = log_rows_without_timing(out / "log.csv");
+  ASSERT_GE(rows.size(), 3u);
+  EXPECT_NE(rows[0].find("loss"), std::string::npos);
+  const double first = std::stod(rows[1].substr(rows[1].find(',') + 1));
+  const double last = std::stod(rows.back().substr(rows.back().find(',') + 1));
+  EXPECT_LT(last, first / 10) << "first logged loss " << first << ", last " << last;
+  EXPECT_TRUE(fs::exists(out / "last.pt"));
+  EXPECT_TRUE(fs::exists(out / "loss.svg"));
+}
+
+TEST(Training, ResumeEqualsAnUninterruptedRun) {
+  Tiny data("resume");
+  const std::vector<std::string> short_schedule = {"/validate_every=20", "/checkpoint_every=20",
+                                                   "/log_every=5"};
+  const fs::path straight = data.dir / "straight", split = data.dir / "split";
+  train::Trainer(options(data, straight, 40, short_schedule)).run();
+  train::Trainer(options(data, split, 20, short_schedule)).run();
+  auto resumed = options(data, split, 40, short_schedule);
+  resumed.resume = true;
+  train::Trainer(resumed).run();
+  auto a = log_rows_without_timing(straight / "log.csv");
+  auto b = log_rows_without_timing(split / "log.csv");
+  ASSERT_EQ(a.size(), 9u);  // header + 8 rows
+  EXPECT_EQ(a, b);
+  // A second fresh run into the same folder is refused rather than overwriting it.
+  EXPECT_THROW(train::Trainer(options(data, straight, 40, short_schedule)), std::runtime_error);
+}
