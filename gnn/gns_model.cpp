@@ -1,5 +1,6 @@
 #include "gnn/gns_model.h"
 
+#include "gnn/segment_ops.h"
 #include "sph/config_visitors.h"
 
 namespace gnn {
@@ -17,7 +18,8 @@ MlpImpl::MlpImpl(int64_t in, int64_t hidden, int64_t out, int hidden_layers, boo
 }
 
 torch::Tensor MlpImpl::forward_after_first(torch::Tensor x) {
-  for (size_t k = 1; k < layers_.size(); ++k) x = layers_[k]->forward(torch::relu(x));
+  // relu_ in place: the Linear before it does not need its output for the backward pass.
+  for (size_t k = 1; k < layers_.size(); ++k) x = layers_[k]->forward(torch::relu_(x));
   return norm_ ? norm_->forward(x) : x;
 }
 
@@ -46,26 +48,74 @@ GnsModel::GnsModel(const GnsConfig& config) : config_(config) {
   decoder_ = register_module("decoder", Mlp(L, L, 3, H, false));
 }
 
-torch::Tensor GnsModel::forward(const GraphInput& g) {
+GnsModel::Latents GnsModel::encode(const GraphInput& g) {
+  return {node_encoder_->forward(
+              torch::cat({g.node_features, type_embedding_->forward(g.node_type)}, 1)),
+          edge_encoder_->forward(g.edge_features)};
+}
+
+GnsModel::Latents GnsModel::process(Latents x, const GraphInput& g) {
   const int64_t L = config_.latent;
-  auto v = node_encoder_->forward(
-      torch::cat({g.node_features, type_embedding_->forward(g.node_type)}, 1));
-  auto e = edge_encoder_->forward(g.edge_features);
-  const auto senders = g.edge_index[0], receivers = g.edge_index[1];
+  auto v = x.nodes, e = x.edges;
+  const EdgeOrder order = edge_order(g.edge_index, g.nodes());
+  // Without autograd the residual sums can overwrite their inputs.
+  const bool in_place = !torch::GradMode::is_enabled();
   for (size_t k = 0; k < edge_mlp_.size(); ++k) {
     // Edge update from [e_ij, v_receiver, v_sender] with the first layer split per node.
     auto projected = receiver_sender_[k]->forward(v);  // [n, 2L]
-    auto h = edge_mlp_[k]->first()->forward(e);
-    h = h + projected.slice(1, 0, L).index_select(0, receivers) +
-        projected.slice(1, L, 2 * L).index_select(0, senders);
-    auto e_update = edge_mlp_[k]->forward_after_first(h);
-    auto aggregated = torch::zeros({g.nodes(), L}, v.options()).index_add_(0, receivers, e_update);
-    auto v_update = node_mlp_[k]->forward_after_first(node_mlp_[k]->first()->forward(v) +
-                                                      aggregate_[k]->forward(aggregated));
-    e = e + e_update;
-    v = v + v_update;
+    torch::Tensor e_update;
+    if (in_place) {
+      e_update = edge_update_in_chunks(k, e, projected, order);
+    } else {
+      auto h = edge_mlp_[k]->first()->forward(e);
+      h.add_(gather_receivers(projected.slice(1, 0, L), order));
+      h.add_(gather_senders(projected.slice(1, L, 2 * L), order));
+      e_update = edge_mlp_[k]->forward_after_first(h);
+    }
+    auto aggregated = sum_to_receivers(e_update, order, g.nodes());
+    auto node_in = node_mlp_[k]->first()->forward(v);
+    node_in.add_(aggregate_[k]->forward(aggregated));
+    auto v_update = node_mlp_[k]->forward_after_first(node_in);
+    e = in_place ? e.add_(e_update) : e + e_update;
+    v = in_place ? v.add_(v_update) : v + v_update;
   }
-  return decoder_->forward(v);
+  return {v, e};
+}
+
+torch::Tensor GnsModel::edge_update_in_chunks(size_t k, const torch::Tensor& e,
+                                              const torch::Tensor& projected,
+                                              const EdgeOrder& order) {
+  const int64_t L = config_.latent, E = e.size(0);
+  // Rows per chunk: the MLP's intermediates of one chunk (kChunk x L floats each) stay in the
+  // core's L2 cache between the matrix products and the element-wise passes.
+  constexpr int64_t kChunk = 1024;
+  auto receiver_part = projected.slice(1, 0, L), sender_part = projected.slice(1, L, 2 * L);
+  auto out = torch::empty_like(e);
+  for (int64_t c0 = 0; c0 < E; c0 += kChunk) {
+    const int64_t c1 = std::min(E, c0 + kChunk);
+    auto h = edge_mlp_[k]->first()->forward(e.slice(0, c0, c1));
+    h.add_(receiver_part.index_select(0, order.receivers.slice(0, c0, c1)));
+    h.add_(sender_part.index_select(0, order.senders.slice(0, c0, c1)));
+    out.slice(0, c0, c1).copy_(edge_mlp_[k]->forward_after_first(h));
+  }
+  return out;
+}
+
+torch::Tensor GnsModel::decode(const Latents& x) {
+  return decoder_->forward(x.nodes);
+}
+
+torch::Tensor GnsModel::forward(const GraphInput& g) {
+  return decode(process(encode(g), g));
+}
+
+double GnsModel::processor_flops(int64_t nodes, int64_t edges) const {
+  const double L = config_.latent, H = config_.mlp_hidden_layers;
+  // Per step: edge MLP (first layer on e, then H more L x L layers) and the node projections
+  // [n, L] x [L, 2L]; node MLP (first layer on v and on the aggregate, then H more).
+  const double edge = double(edges) * (1 + H) * L * L + double(nodes) * 2 * L * L;
+  const double node = double(nodes) * (2 + H) * L * L;
+  return 2.0 * config_.layers * (edge + node);
 }
 
 nlohmann::json GnsModel::config() const {

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "gnn/graph_model.h"
+#include "gnn/segment_ops.h"
 #include "sph/param_spec.h"
 
 namespace gnn {
@@ -62,6 +63,15 @@ class GnsModel : public GraphModel {
  public:
   explicit GnsModel(const GnsConfig& config);
   torch::Tensor forward(const GraphInput& graph) override;
+  // The three stages, public so benchmarks can time the processor alone.
+  struct Latents {
+    torch::Tensor nodes, edges;
+  };
+  Latents encode(const GraphInput& graph);
+  Latents process(Latents latents, const GraphInput& graph);
+  torch::Tensor decode(const Latents& latents);
+  // Multiply-add FLOPs (2 per multiply-add) of the processor's matrix products for a graph.
+  double processor_flops(int64_t nodes, int64_t edges) const;
   std::string name() const override { return "gns"; }
   double radius() const override { return config_.radius; }
   double noise_std() const override { return config_.noise_std; }
@@ -69,6 +79,9 @@ class GnsModel : public GraphModel {
   const GnsConfig& gns_config() const { return config_; }
 
  private:
+  // The edge MLP of step k over chunks of edges, without autograd.
+  torch::Tensor edge_update_in_chunks(size_t k, const torch::Tensor& e,
+                                      const torch::Tensor& projected, const EdgeOrder& order);
   GnsConfig config_;
   torch::nn::Embedding type_embedding_{nullptr};
   Mlp node_encoder_{nullptr}, edge_encoder_{nullptr}, decoder_{nullptr};

@@ -8,7 +8,9 @@
 
 #include "gnn/checkpoint.h"
 #include "gnn/frame_window.h"
+#include "gnn/radius_graph.h"
 #include "gnn/rollout.h"
+#include "gnn/segment_ops.h"
 #include "tests/gnn/tiny_dataset.h"
 #include "train/trainer.h"
 
@@ -168,4 +170,49 @@ TEST(Training, ResumeEqualsAnUninterruptedRun) {
   EXPECT_EQ(a, b);
   // A second fresh run into the same folder is refused rather than overwriting it.
   EXPECT_THROW(train::Trainer(options(data, straight, 40, short_schedule)), std::runtime_error);
+}
+
+TEST(SegmentOps, MatchPlainGatherAndScatterInValueAndGradient) {
+  torch::manual_seed(11);
+  auto points = torch::rand({300, 3});
+  auto graph = gnn::build_radius_graph(points, torch::zeros({0, 3}), 0.2);
+  const int64_t n = 300;
+  auto order = gnn::edge_order(graph.edge_index, n);
+  ASSERT_TRUE(order.canonical);
+  const int64_t E = graph.edge_index.size(1);
+  auto nodes = torch::randn({n, 8}, torch::requires_grad());
+  auto edges = torch::randn({E, 8}, torch::requires_grad());
+  auto weight_e = torch::randn({E, 8}), weight_n = torch::randn({n, 8});
+  auto fast = (gnn::gather_receivers(nodes, order) * weight_e).sum() +
+              (gnn::gather_senders(nodes * 2, order) * weight_e).sum() +
+              (gnn::sum_to_receivers(edges, order, n) * weight_n).sum();
+  auto fast_nodes = torch::autograd::grad({fast}, {nodes, edges});
+  auto plain = (nodes.index_select(0, graph.edge_index[1]) * weight_e).sum() +
+               ((nodes * 2).index_select(0, graph.edge_index[0]) * weight_e).sum() +
+               (torch::zeros({n, 8}).index_add(0, graph.edge_index[1], edges) * weight_n).sum();
+  auto grads = torch::autograd::grad({plain}, {nodes, edges});
+  EXPECT_NEAR(fast.item<double>(), plain.item<double>(), 1e-3);
+  EXPECT_TRUE(torch::allclose(fast_nodes[0], grads[0], 1e-4, 1e-4));
+  EXPECT_TRUE(torch::allclose(fast_nodes[1], grads[1], 1e-4, 1e-4));
+  // An unsorted edge list is not canonical and takes the plain path.
+  EXPECT_FALSE(gnn::edge_order(graph.edge_index.flip(1), n).canonical);
+}
+
+TEST(GnsModel, InferenceInChunksEqualsTheAutogradPath) {
+  torch::manual_seed(12);
+  auto points = torch::rand({400, 3});
+  auto graph = gnn::build_radius_graph(points, torch::zeros({0, 3}), 0.25);
+  ASSERT_GT(graph.edge_index.size(1), 3000);  // several chunks of 1024 edges
+  gnn::GraphInput g;
+  g.node_features = torch::randn({400, gnn::kNodeFeatures});
+  g.node_type = torch::randint(0, 2, {400}, torch::kInt64);
+  g.edge_index = graph.edge_index;
+  g.edge_features = torch::randn({graph.edge_index.size(1), gnn::kEdgeFeatures});
+  g.fluid = torch::ones({400}, torch::kBool);
+  auto model = gnn::make_model({{"model", "gns"}, {"latent", 32}, {"layers", 3}}, "test");
+  auto with_grad = model->forward(g);
+  torch::NoGradGuard no_grad;
+  auto chunked = model->forward(g);
+  EXPECT_TRUE(torch::allclose(with_grad, chunked, 1e-4, 1e-5))
+      << (with_grad - chunked).abs().max().item<float>();
 }

@@ -1,0 +1,29 @@
+#pragma once
+// Gathers and sums over the edges of a graph whose edges are sorted by receiver and which holds
+// every edge in both directions (the radius graph is symmetric). With that order, summing the
+// messages to each receiver is a pass over contiguous rows (a CSR sum, parallel over receivers
+// with no atomics), and the backward passes of both gathers are CSR sums too: the gradient of a
+// gather by sender is a gather by receiver of the reversed edges. LibTorch's index_add_ (the
+// backward of index_select, and the usual scatter) serialises over edges on the CPU.
+
+#include <torch/torch.h>
+
+namespace gnn {
+
+struct EdgeOrder {
+  torch::Tensor senders, receivers;  // [E] int64
+  torch::Tensor offsets;             // [n + 1]: edges of receiver i are offsets[i] .. offsets[i+1]
+  torch::Tensor reverse;             // [E]: the index of edge (r -> s) for edge (s -> r)
+  bool canonical = false;            // sorted by receiver and symmetric: the fast path applies
+};
+
+EdgeOrder edge_order(const torch::Tensor& edge_index, int64_t nodes);
+
+// values[receivers], values[senders] and the per-receiver sum of edge rows, each with the
+// CSR backward when order.canonical (plain index_select / index_add_ otherwise).
+torch::Tensor gather_receivers(const torch::Tensor& values, const EdgeOrder& order);
+torch::Tensor gather_senders(const torch::Tensor& values, const EdgeOrder& order);
+torch::Tensor sum_to_receivers(const torch::Tensor& edge_values, const EdgeOrder& order,
+                               int64_t nodes);
+
+}  // namespace gnn
