@@ -1,5 +1,9 @@
 #include "gnn/gns_model.h"
 
+#include <algorithm>
+#include <cmath>
+
+#include "gnn/runtime.h"
 #include "gnn/segment_ops.h"
 #include "sph/config_visitors.h"
 
@@ -58,15 +62,27 @@ GnsModel::Latents GnsModel::process(Latents x, const GraphInput& g) {
   const int64_t L = config_.latent;
   auto v = x.nodes, e = x.edges;
   const EdgeOrder order = edge_order(g.edge_index, g.nodes());
-  // Without autograd the residual sums can overwrite their inputs.
+  // Without autograd the residual sums overwrite the latents (copies: the caller's stay intact).
   const bool in_place = !torch::GradMode::is_enabled();
+  if (in_place) {
+    v = v.clone();
+    e = e.clone();
+  }
   for (size_t k = 0; k < edge_mlp_.size(); ++k) {
+    if (in_place) {
+      // Inference: every product in row chunks side by side (see edge_update_in_chunks).
+      SingleThreadedBlas blas;
+      auto projected = rows_times_transposed(v, receiver_sender_[k]->weight);  // [n, 2L]
+      auto e_update = edge_update_in_chunks(k, e, projected, order);
+      auto aggregated = sum_to_receivers(e_update, order, g.nodes());
+      node_update_in_chunks(k, v, aggregated);
+      e.add_(e_update);
+      continue;
+    }
     // Edge update from [e_ij, v_receiver, v_sender] with the first layer split per node.
     auto projected = receiver_sender_[k]->forward(v);  // [n, 2L]
     torch::Tensor e_update;
-    if (in_place) {
-      e_update = edge_update_in_chunks(k, e, projected, order);
-    } else {
+    {
       auto h = edge_mlp_[k]->first()->forward(e);
       h.add_(gather_receivers(projected.slice(1, 0, L), order));
       h.add_(gather_senders(projected.slice(1, L, 2 * L), order));
@@ -76,28 +92,155 @@ GnsModel::Latents GnsModel::process(Latents x, const GraphInput& g) {
     auto node_in = node_mlp_[k]->first()->forward(v);
     node_in.add_(aggregate_[k]->forward(aggregated));
     auto v_update = node_mlp_[k]->forward_after_first(node_in);
-    e = in_place ? e.add_(e_update) : e + e_update;
-    v = in_place ? v.add_(v_update) : v + v_update;
+    e = e + e_update;
+    v = v + v_update;
   }
   return {v, e};
+}
+
+namespace {
+
+// rows x width, in place: x = max(x + bias, 0).
+void add_bias_relu(float* x, const float* bias, int64_t rows, int64_t width) {
+  for (int64_t r = 0; r < rows; ++r, x += width)
+    for (int64_t c = 0; c < width; ++c) x[c] = std::max(x[c] + bias[c], 0.0f);
+}
+
+// out = LayerNorm(x + bias) row by row, in one pass over x (no autograd).
+// With `accumulate` the result is added to `out` (a residual), otherwise written to it.
+void add_bias_layer_norm(const float* x, const float* bias, const float* gamma, const float* beta,
+                         double eps, float* out, int64_t rows, int64_t width,
+                         bool accumulate = false) {
+  for (int64_t r = 0; r < rows; ++r, x += width, out += width) {
+    // omp simd: lets the compiler vectorise the sums (it may not reorder float additions
+    // otherwise).
+    float mean = 0;
+#pragma omp simd reduction(+ : mean)
+    for (int64_t c = 0; c < width; ++c) mean += x[c] + bias[c];
+    mean /= float(width);
+    float var = 0;
+#pragma omp simd reduction(+ : var)
+    for (int64_t c = 0; c < width; ++c) {
+      const float d = x[c] + bias[c] - mean;
+      var += d * d;
+    }
+    const float inv = 1.0f / std::sqrt(var / float(width) + float(eps));
+    if (accumulate)
+      for (int64_t c = 0; c < width; ++c)
+        out[c] += (x[c] + bias[c] - mean) * inv * gamma[c] + beta[c];
+    else
+      for (int64_t c = 0; c < width; ++c)
+        out[c] = (x[c] + bias[c] - mean) * inv * gamma[c] + beta[c];
+  }
+}
+
+constexpr int64_t kChunk = 1024;
+
+// out[r] = a[ia[r]] + b[ib[r]] for rows of `width` floats: both gathers and their sum in one pass.
+void gather_pair_sum(const float* a, const float* b, const int64_t* ia, const int64_t* ib,
+                     float* out, int64_t rows, int64_t width) {
+  for (int64_t r = 0; r < rows; ++r, out += width) {
+    const float* x = a + ia[r] * width;
+    const float* y = b + ib[r] * width;
+    for (int64_t c = 0; c < width; ++c) out[c] = x[c] + y[c];
+  }
+}
+
+}  // namespace
+
+torch::Tensor GnsModel::rows_times_transposed(const torch::Tensor& x_in, const torch::Tensor& w) {
+  auto x = x_in.contiguous();
+  auto out = torch::empty({x.size(0), w.size(0)}, x.options());
+  const int64_t rows = x.size(0);
+  at::parallel_for(0, (rows + kChunk - 1) / kChunk, 1, [&](int64_t first, int64_t last) {
+    torch::NoGradGuard no_grad;
+    for (int64_t c = first; c < last; ++c) {
+      auto o = out.slice(0, c * kChunk, std::min(rows, (c + 1) * kChunk));
+      at::mm_out(o, x.slice(0, c * kChunk, std::min(rows, (c + 1) * kChunk)), w.t());
+    }
+  });
+  return out;
+}
+
+void GnsModel::node_update_in_chunks(size_t k, torch::Tensor& v, const torch::Tensor& aggregated) {
+  const int64_t L = config_.latent, n = v.size(0);
+  Mlp& mlp = node_mlp_[k];
+  auto norm = mlp->norm();
+  const float* gamma = norm->weight.data_ptr<float>();
+  const float* beta = norm->bias.data_ptr<float>();
+  const double eps = norm->options.eps();
+  auto agg = aggregated.contiguous();
+  at::parallel_for(0, (n + kChunk - 1) / kChunk, 1, [&](int64_t first, int64_t last) {
+    torch::NoGradGuard no_grad;
+    auto a = torch::empty({kChunk, L}), b = torch::empty({kChunk, L});
+    for (int64_t c = first; c < last; ++c) {
+      const int64_t c0 = c * kChunk, c1 = std::min(n, c0 + kChunk), rows = c1 - c0;
+      auto x = a.slice(0, 0, rows), y = b.slice(0, 0, rows);
+      at::mm_out(x, v.slice(0, c0, c1), mlp->first()->weight.t());
+      x.addmm_(agg.slice(0, c0, c1), aggregate_[k]->weight.t());
+      add_bias_relu(x.data_ptr<float>(), mlp->first()->bias.data_ptr<float>(), rows, L);
+      for (size_t l = 1; l < mlp->linears(); ++l) {
+        auto layer = mlp->linear(l);
+        at::mm_out(y, x, layer->weight.t());
+        if (l + 1 < mlp->linears()) {
+          add_bias_relu(y.data_ptr<float>(), layer->bias.data_ptr<float>(), rows, L);
+          std::swap(x, y);
+        } else {
+          // The residual: v += LayerNorm(...), in the same pass. Rows of v are read above
+          // only by this chunk, so updating them here is safe.
+          add_bias_layer_norm(y.data_ptr<float>(), layer->bias.data_ptr<float>(), gamma, beta, eps,
+                              v.data_ptr<float>() + c0 * L, rows, L, true);
+        }
+      }
+    }
+  });
 }
 
 torch::Tensor GnsModel::edge_update_in_chunks(size_t k, const torch::Tensor& e,
                                               const torch::Tensor& projected,
                                               const EdgeOrder& order) {
   const int64_t L = config_.latent, E = e.size(0);
-  // Rows per chunk: the MLP's intermediates of one chunk (kChunk x L floats each) stay in the
-  // core's L2 cache between the matrix products and the element-wise passes.
-  constexpr int64_t kChunk = 1024;
-  auto receiver_part = projected.slice(1, 0, L), sender_part = projected.slice(1, L, 2 * L);
+  // Rows per chunk (kChunk): the MLP's intermediates of one chunk (kChunk x L floats each) stay
+  // in the core's L2 cache between the matrix products and the element-wise passes.
+  Mlp& mlp = edge_mlp_[k];
+  // The first layer's bias is added once per node (to the receiver projection), not per edge.
+  auto receiver_part = (projected.slice(1, 0, L) + mlp->first()->bias).contiguous();
+  auto sender_part = projected.slice(1, L, 2 * L).contiguous();
+  auto edges = e.contiguous();
   auto out = torch::empty_like(e);
-  for (int64_t c0 = 0; c0 < E; c0 += kChunk) {
-    const int64_t c1 = std::min(E, c0 + kChunk);
-    auto h = edge_mlp_[k]->first()->forward(e.slice(0, c0, c1));
-    h.add_(receiver_part.index_select(0, order.receivers.slice(0, c0, c1)));
-    h.add_(sender_part.index_select(0, order.senders.slice(0, c0, c1)));
-    out.slice(0, c0, c1).copy_(edge_mlp_[k]->forward_after_first(h));
-  }
+  auto norm = mlp->norm();
+  const float* gamma = norm->weight.data_ptr<float>();
+  const float* beta = norm->bias.data_ptr<float>();
+  const double eps = norm->options.eps();
+  // Chunks run side by side on the LibTorch threads, each op inside single-threaded (LibTorch
+  // runs nested ops serially) and BLAS held to one thread, so the cores never wait on each
+  // other's small operations. Matrix products write into per-thread buffers; bias, ReLU and
+  // LayerNorm are fused into single passes.
+  const int64_t chunks = (E + kChunk - 1) / kChunk;
+  at::parallel_for(0, chunks, 1, [&](int64_t first, int64_t last) {
+    torch::NoGradGuard no_grad;  // grad mode is per thread
+    auto a = torch::empty({kChunk, L}), b = torch::empty({kChunk, L});
+    for (int64_t c = first; c < last; ++c) {
+      const int64_t c0 = c * kChunk, c1 = std::min(E, c0 + kChunk), rows = c1 - c0;
+      auto x = a.slice(0, 0, rows), y = b.slice(0, 0, rows);
+      gather_pair_sum(receiver_part.data_ptr<float>(), sender_part.data_ptr<float>(),
+                      order.receivers.data_ptr<int64_t>() + c0,
+                      order.senders.data_ptr<int64_t>() + c0, x.data_ptr<float>(), rows, L);
+      x.addmm_(edges.slice(0, c0, c1), mlp->first()->weight.t());
+      x.relu_();
+      for (size_t l = 1; l < mlp->linears(); ++l) {
+        auto layer = mlp->linear(l);
+        at::mm_out(y, x, layer->weight.t());
+        if (l + 1 < mlp->linears()) {
+          add_bias_relu(y.data_ptr<float>(), layer->bias.data_ptr<float>(), rows, L);
+          std::swap(x, y);
+        } else {
+          add_bias_layer_norm(y.data_ptr<float>(), layer->bias.data_ptr<float>(), gamma, beta, eps,
+                              out.data_ptr<float>() + c0 * L, rows, L);
+        }
+      }
+    }
+  });
   return out;
 }
 

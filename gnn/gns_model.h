@@ -52,6 +52,9 @@ class MlpImpl : public torch::nn::Module {
   // The rest of the MLP after its first Linear has been applied (pre-activation input).
   torch::Tensor forward_after_first(torch::Tensor first_pre_activation);
   torch::nn::Linear first() { return layers_[0]; }
+  torch::nn::Linear linear(size_t k) { return layers_[k]; }
+  size_t linears() const { return layers_.size(); }
+  torch::nn::LayerNorm norm() { return norm_; }
 
  private:
   std::vector<torch::nn::Linear> layers_;
@@ -79,6 +82,10 @@ class GnsModel : public GraphModel {
   const GnsConfig& gns_config() const { return config_; }
 
  private:
+  // Inference helpers (no autograd, BLAS single-threaded by the caller): x W^T in row chunks
+  // side by side; the node MLP of step k with its residual, in place on v.
+  torch::Tensor rows_times_transposed(const torch::Tensor& x, const torch::Tensor& w);
+  void node_update_in_chunks(size_t k, torch::Tensor& v, const torch::Tensor& aggregated);
   // The edge MLP of step k over chunks of edges, without autograd.
   torch::Tensor edge_update_in_chunks(size_t k, const torch::Tensor& e,
                                       const torch::Tensor& projected, const EdgeOrder& order);

@@ -27,6 +27,30 @@ void configure_runtime(const RuntimeSettings& settings) {
     set_blas(settings.blas_threads > 0 ? settings.blas_threads : threads);
 }
 
+namespace {
+using SetThreads = void (*)(int);
+using GetThreads = int (*)();
+SetThreads blas_setter() {
+  return reinterpret_cast<SetThreads>(dlsym(RTLD_DEFAULT, "openblas_set_num_threads"));
+}
+GetThreads blas_getter() {
+  return reinterpret_cast<GetThreads>(dlsym(RTLD_DEFAULT, "openblas_get_num_threads"));
+}
+}  // namespace
+
+SingleThreadedBlas::SingleThreadedBlas() {
+  auto get = blas_getter();
+  auto set = blas_setter();
+  if (!get || !set) return;
+  previous_ = get();
+  if (previous_ != 1) set(1);
+}
+
+SingleThreadedBlas::~SingleThreadedBlas() {
+  if (previous_ > 1)
+    if (auto set = blas_setter()) set(previous_);
+}
+
 double peak_memory_mib() {
   rusage usage{};
   getrusage(RUSAGE_SELF, &usage);

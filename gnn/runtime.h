@@ -6,7 +6,7 @@
 //    does not reach, so all three are set together;
 //  - allocator: glibc's malloc hands large blocks back to the OS after every step, so the
 //    gather/scatter-heavy graph code page-faults its tensors in again each step (2-4x slower);
-//    raising the mmap and trim thresholds keeps them in the heap.
+//    taking every block from the heap and never trimming it keeps them mapped.
 
 namespace gnn {
 
@@ -16,6 +16,19 @@ struct RuntimeSettings {
 };
 
 void configure_runtime(const RuntimeSettings& settings);
+
+// Holds OpenBLAS to one thread for its lifetime (restoring the previous count after): for
+// matrix products issued from several threads at once, each must run in its caller's thread.
+class SingleThreadedBlas {
+ public:
+  SingleThreadedBlas();
+  ~SingleThreadedBlas();
+  SingleThreadedBlas(const SingleThreadedBlas&) = delete;
+  SingleThreadedBlas& operator=(const SingleThreadedBlas&) = delete;
+
+ private:
+  int previous_ = 0;
+};
 
 // Peak resident memory of this process so far, in MiB.
 double peak_memory_mib();

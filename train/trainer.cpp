@@ -212,8 +212,10 @@ double Trainer::run() {
   log << std::setprecision(9);
   std::unique_ptr<sph::ProgressReporter> progress;
   if (options_.log)
-    progress = std::make_unique<sph::ProgressReporter>(*options_.log, options_.terminal, c.steps,
-                                                       "training");
+    progress = std::make_unique<sph::ProgressReporter>(
+        *options_.log, options_.terminal, c.steps - state_.step,
+        "training to step " + std::to_string(c.steps));
+  const int64_t first_step = state_.step;
   const auto start = std::chrono::steady_clock::now();
   const double elapsed_before = state_.elapsed_s;
   auto elapsed = [&] {
@@ -259,7 +261,7 @@ double Trainer::run() {
         std::ostringstream d;
         d << std::setprecision(3) << "loss " << last_loss << " lr " << lr << " "
           << loss_count / std::max(now - window_start, 1e-9) << " steps/s";
-        progress->update(state_.step, d.str());
+        progress->update(state_.step - first_step, d.str());
       }
       loss_sum = 0;
       loss_count = 0;
