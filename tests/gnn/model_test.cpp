@@ -11,6 +11,9 @@
 #include "gnn/radius_graph.h"
 #include "gnn/rollout.h"
 #include "gnn/segment_ops.h"
+#include "sph/scene.h"
+#include "sph/simulation.h"
+#include "sph/tensor_recorder.h"
 #include "tests/gnn/tiny_dataset.h"
 #include "train/trainer.h"
 
@@ -215,4 +218,48 @@ TEST(GnsModel, InferenceInChunksEqualsTheAutogradPath) {
   auto chunked = model->forward(g);
   EXPECT_TRUE(torch::allclose(with_grad, chunked, 1e-4, 1e-5))
       << (with_grad - chunked).abs().max().item<float>();
+}
+
+// Training on freshly simulated data without a file: the recorder's tensors go straight into
+// the same windows, loss and rollout as a dataset read from HDF5.
+TEST(InProcess, RecorderTensorsTrainAndRollOutWithoutAFile) {
+  const sph::LoadedScene s = sph::parse_scene(nlohmann::json::parse(R"({
+    "name": "record", "particle_radius": 0.02, "end_time": 0.2, "output": {"frame_dt": 0.02},
+    "boxes": [{"min": [0, 0, 0], "max": [0.4, 0.4, 0.6]}],
+    "fluid_blocks": [{"min": [0, 0, 0], "max": [0.2, 0.2, 0.2]}],
+    "emitters": [{"centre": [0.3, 0.3, 0.4], "radius": 0.03, "rate": 0.0005, "speed": 1,
+                  "stop": 0.1, "material": "oil"}]})"),
+                                              "record.json");
+  sph::Simulation sim(s.config);
+  sph::TensorRecorder recorder(sim, 1);
+  recorder.record(sim);
+  for (int frame = 1; frame <= 10; ++frame) {
+    sim.advance_to(0.02 * frame, frame);
+    recorder.record(sim);
+  }
+  auto t =
+      gnn::from_recorded(recorder.take(), nlohmann::json::parse(
+                                              R"({"water": {"density": 1000, "viscosity": 0.001},
+                                                       "oil": {"density": 940, "viscosity": 0.004}})"));
+  ASSERT_EQ(t.frames(), 11);
+  EXPECT_GT((t.particle_type == gnn::kOil).sum().item<int64_t>(), 0);
+  EXPECT_FALSE(torch::equal(t.active[0], t.active[10]));  // the emitter added particles
+  gnn::DatasetMetadata m;
+  m.frame_dt = 0.02;
+  m.bounds = {{{0, 0.4}, {0, 0.4}, {0, 0.6}}};
+  m.vel_mean = torch::zeros({3});
+  m.acc_mean = torch::zeros({3});
+  m.vel_std = torch::full({3}, 0.01f);
+  m.acc_std = torch::full({3}, 0.001f);
+  auto model =
+      gnn::make_model({{"model", "gns"}, {"latent", 16}, {"layers", 2}, {"radius", 0.08}}, "test");
+  gnn::LearnedSimulator simulator(model, gnn::Normalisation::from_metadata(m, 0), m.bounds);
+  auto ids = gnn::active_ids(t, 6);
+  gnn::FrameNodes nodes{gnn::position_history(t, 6, ids, m.frame_dt),
+                        t.particle_type.index_select(0, ids), t.material, t.boundary};
+  auto loss = simulator.predict_normalised(nodes).pow(2).mean();
+  loss.backward();
+  EXPECT_TRUE(model->parameters()[0].grad().defined());
+  auto r = gnn::rollout(simulator, t, 5, 5, m.frame_dt);
+  EXPECT_TRUE(torch::equal(r.active[5], t.active[10]));
 }
