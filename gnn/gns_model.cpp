@@ -146,6 +146,26 @@ void gather_pair_sum(const float* a, const float* b, const int64_t* ia, const in
   }
 }
 
+// The rest of an MLP on one chunk of rows: `x` holds its first layer's activated output, `y` is
+// scratch of the same shape; the LayerNorm'ed result is written to `out` (added with
+// `accumulate`).
+void finish_mlp_chunk(MlpImpl& mlp, torch::Tensor x, torch::Tensor y, float* out, bool accumulate) {
+  const int64_t rows = x.size(0), width = x.size(1);
+  auto norm = mlp.norm();
+  for (size_t l = 1; l < mlp.linears(); ++l) {
+    auto layer = mlp.linear(l);
+    at::mm_out(y, x, layer->weight.t());
+    if (l + 1 < mlp.linears()) {
+      add_bias_relu(y.data_ptr<float>(), layer->bias.data_ptr<float>(), rows, width);
+      std::swap(x, y);
+    } else {
+      add_bias_layer_norm(y.data_ptr<float>(), layer->bias.data_ptr<float>(),
+                          norm->weight.data_ptr<float>(), norm->bias.data_ptr<float>(),
+                          norm->options.eps(), out, rows, width, accumulate);
+    }
+  }
+}
+
 }  // namespace
 
 torch::Tensor GnsModel::rows_times_transposed(const torch::Tensor& x_in, const torch::Tensor& w) {
@@ -165,10 +185,6 @@ torch::Tensor GnsModel::rows_times_transposed(const torch::Tensor& x_in, const t
 void GnsModel::node_update_in_chunks(size_t k, torch::Tensor& v, const torch::Tensor& aggregated) {
   const int64_t L = config_.latent, n = v.size(0);
   Mlp& mlp = node_mlp_[k];
-  auto norm = mlp->norm();
-  const float* gamma = norm->weight.data_ptr<float>();
-  const float* beta = norm->bias.data_ptr<float>();
-  const double eps = norm->options.eps();
   auto agg = aggregated.contiguous();
   at::parallel_for(0, (n + kChunk - 1) / kChunk, 1, [&](int64_t first, int64_t last) {
     torch::NoGradGuard no_grad;
@@ -179,19 +195,9 @@ void GnsModel::node_update_in_chunks(size_t k, torch::Tensor& v, const torch::Te
       at::mm_out(x, v.slice(0, c0, c1), mlp->first()->weight.t());
       x.addmm_(agg.slice(0, c0, c1), aggregate_[k]->weight.t());
       add_bias_relu(x.data_ptr<float>(), mlp->first()->bias.data_ptr<float>(), rows, L);
-      for (size_t l = 1; l < mlp->linears(); ++l) {
-        auto layer = mlp->linear(l);
-        at::mm_out(y, x, layer->weight.t());
-        if (l + 1 < mlp->linears()) {
-          add_bias_relu(y.data_ptr<float>(), layer->bias.data_ptr<float>(), rows, L);
-          std::swap(x, y);
-        } else {
-          // The residual: v += LayerNorm(...), in the same pass. Rows of v are read above
-          // only by this chunk, so updating them here is safe.
-          add_bias_layer_norm(y.data_ptr<float>(), layer->bias.data_ptr<float>(), gamma, beta, eps,
-                              v.data_ptr<float>() + c0 * L, rows, L, true);
-        }
-      }
+      // The residual: v += LayerNorm(...), in the same pass. Rows of v are read above only by
+      // this chunk, so updating them here is safe.
+      finish_mlp_chunk(*mlp, x, y, v.data_ptr<float>() + c0 * L, /*accumulate=*/true);
     }
   });
 }
@@ -208,10 +214,6 @@ torch::Tensor GnsModel::edge_update_in_chunks(size_t k, const torch::Tensor& e,
   auto sender_part = projected.slice(1, L, 2 * L).contiguous();
   auto edges = e.contiguous();
   auto out = torch::empty_like(e);
-  auto norm = mlp->norm();
-  const float* gamma = norm->weight.data_ptr<float>();
-  const float* beta = norm->bias.data_ptr<float>();
-  const double eps = norm->options.eps();
   // Chunks run side by side on the LibTorch threads, each op inside single-threaded (LibTorch
   // runs nested ops serially) and BLAS held to one thread, so the cores never wait on each
   // other's small operations. Matrix products write into per-thread buffers; bias, ReLU and
@@ -228,17 +230,7 @@ torch::Tensor GnsModel::edge_update_in_chunks(size_t k, const torch::Tensor& e,
                       order.senders.data_ptr<int64_t>() + c0, x.data_ptr<float>(), rows, L);
       x.addmm_(edges.slice(0, c0, c1), mlp->first()->weight.t());
       x.relu_();
-      for (size_t l = 1; l < mlp->linears(); ++l) {
-        auto layer = mlp->linear(l);
-        at::mm_out(y, x, layer->weight.t());
-        if (l + 1 < mlp->linears()) {
-          add_bias_relu(y.data_ptr<float>(), layer->bias.data_ptr<float>(), rows, L);
-          std::swap(x, y);
-        } else {
-          add_bias_layer_norm(y.data_ptr<float>(), layer->bias.data_ptr<float>(), gamma, beta, eps,
-                              out.data_ptr<float>() + c0 * L, rows, L);
-        }
-      }
+      finish_mlp_chunk(*mlp, x, y, out.data_ptr<float>() + c0 * L, /*accumulate=*/false);
     }
   });
   return out;
