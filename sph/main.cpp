@@ -19,6 +19,7 @@
 
 #include "sph/config_error.h"
 #include "sph/dataset_generator.h"
+#include "sph/floating_point.h"
 #include "sph/scene.h"
 #include "sph/scene_runner.h"
 #include "sph/solver_comparison.h"
@@ -35,6 +36,7 @@ void request_stop(int) {
 int thread_count(int requested) {
   const int n = requested > 0 ? requested : omp_get_num_procs();
   omp_set_num_threads(n);
+  sph::flush_subnormals_to_zero();
   return n;
 }
 
