@@ -15,6 +15,8 @@
 // the free surface (fewer neighbours than a fraction of a full neighbourhood) or at the oil-water
 // interface (a neighbour of the other phase) and the rest skip the cosine entirely.
 
+#include <vector>
+
 #include "sph/non_pressure_force.h"
 
 namespace sph {
@@ -28,9 +30,17 @@ class SurfaceTensionForce : public NonPressureForce {
                         const ParticleNeighbourhood& neighbourhood, Real dt) override;
 
  private:
+  // The pair law cos(3 pi r / 2h) W(r) / r as a table over (r / h)^2, made for the kernel and
+  // support radius of the first neighbourhood it sees (and remade if they change).
+  void tabulate_pair_law(KernelKind kernel, Real support_radius);
+
   SurfaceTensionConfig config_;
   Real reference_density_;
   Index surface_neighbour_count_;  // fewer neighbours than this: a free-surface particle
+  std::vector<Real> law_;
+  Real law_scale_ = 0;  // table intervals per m^2 of r^2
+  KernelKind law_kernel_ = KernelKind::kCubicSpline;
+  Real law_support_radius_ = 0;
 };
 
 }  // namespace sph
