@@ -56,13 +56,15 @@ void MixtureModel::compute_drift(const FluidParticles& fluid, const ParticleNeig
   const long n = long(fluid.active_count());
   // Clear last step's fluxes (only interface particles had any).
   for (Index i : interface_) {
-    is_interface_[i] = 0;
     flux_oil_[i].setZero();
-    drift_stress_[i] = SymmetricTensor();
+    drift_stress_[i] = DriftStress();
   }
   const Real* alpha = fluid.oil_fraction.data();
-  // A particle takes part when it is mixed or a neighbour's composition differs from its own.
-#pragma omp parallel for schedule(dynamic, 128)
+  const Real rho_o = materials_.oil.density, rho_w = materials_.water.density;
+  const Real tau = config_.drift_tau, sigma = config_.diffusion_sigma;
+  // A particle takes part when it is mixed or a neighbour's composition differs from its own;
+  // the drift of one that does is computed at once, while its neighbours are in cache.
+#pragma omp parallel for schedule(dynamic, 64)
   for (long li = 0; li < n; ++li) {
     const Index i = Index(li);
     const Real ai = alpha[i];
@@ -71,18 +73,7 @@ void MixtureModel::compute_drift(const FluidParticles& fluid, const ParticleNeig
     for (Index k = ff.lists.offsets[i]; k < ff.lists.offsets[i + 1] && !differs; ++k)
       differs = alpha[ff.lists.indices[k]] != ai;
     is_interface_[i] = differs ? 1 : 0;
-  }
-  interface_.clear();
-  for (long i = 0; i < n; ++i)
-    if (is_interface_[size_t(i)]) interface_.push_back(Index(i));
-
-  const Real rho_o = materials_.oil.density, rho_w = materials_.water.density;
-  const Real tau = config_.drift_tau, sigma = config_.diffusion_sigma;
-  const long m = long(interface_.size());
-#pragma omp parallel for schedule(dynamic, 32)
-  for (long li = 0; li < m; ++li) {
-    const Index i = interface_[size_t(li)];
-    const Real ai = alpha[i];
+    if (!differs) continue;
     Vec3 grad_alpha = Vec3::Zero();
     Real kernel_sum = fluid.rest_volume[i] * nb.kernel_at_zero(),
          density_sum = kernel_sum * fluid.rest_density[i];
@@ -120,11 +111,14 @@ void MixtureModel::compute_drift(const FluidParticles& fluid, const ParticleNeig
     }
     flux_oil_[i] = j_oil;
     // alpha_k rho_k u_k u_k = s_k s_k^T with s_k = J_k sqrt(rho_k / alpha_k).
-    SymmetricTensor stress;
+    DriftStress stress;
     if (ai > kTinyFraction) stress.add_outer(j_oil * std::sqrt(rho_o / ai));
     if (1 - ai > kTinyFraction) stress.add_outer(j_water * std::sqrt(rho_w / (1 - ai)));
     drift_stress_[i] = stress;
   }
+  interface_.clear();
+  for (long i = 0; i < n; ++i)
+    if (is_interface_[size_t(i)]) interface_.push_back(Index(i));
 }
 
 void MixtureModel::exchange_and_drift_momentum(FluidParticles& fluid,
@@ -152,7 +146,8 @@ void MixtureModel::exchange_and_drift_momentum(FluidParticles& fluid,
     const bool pure_i = ai == 0 || ai == 1;
     const Real two_dt = 2 * dt;
     Real oil_out = 0, water_out = 0;
-    Vec3 divergence = Vec3::Zero(), gradient_sum = Vec3::Zero();
+    DriftStress::Column divergence = DriftStress::Column::Zero();
+    Vec3 gradient_sum = Vec3::Zero();
     const auto& ff = nb.fluid;
     for (Index k = ff.lists.offsets[i]; k < ff.lists.offsets[i + 1]; ++k) {
       const Index j = ff.lists.indices[k];
@@ -179,7 +174,7 @@ void MixtureModel::exchange_and_drift_momentum(FluidParticles& fluid,
     fraction_change_[i] = water_out - oil_out;
     limit_oil_[i] = oil_out > alpha[i] ? alpha[i] / oil_out : Real(1);
     limit_water_[i] = water_out > 1 - alpha[i] ? (1 - alpha[i]) / water_out : Real(1);
-    fluid.acceleration[i] -= divergence / fluid.rest_density[i];
+    fluid.acceleration[i] -= divergence.head<3>() / fluid.rest_density[i];
   }
   limited_.clear();
   for (Index i : interface_)
@@ -191,26 +186,48 @@ void MixtureModel::absorb_traces(FluidParticles& fluid, const ParticleNeighbourh
   const Real trace = config_.trace_fraction;
   if (trace <= 0) return;
   Real* alpha = fluid.oil_fraction.data();
-  // Serial: a recipient may itself be a trace handed on later in the loop, and the order must not
-  // depend on the thread count.
-  for (Index i : interface_) {
+  const auto is_oil_trace = [trace](Real a) { return a > 0 && a < trace; };
+  const auto is_water_trace = [trace](Real a) { return a < 1 && a > 1 - trace; };
+  // Whether j can take the trace that i holds: j is richer than i in the trace's phase (traces
+  // rejoin the bulk of their phase rather than wander) and has room for it.
+  const auto can_take = [](bool oil_trace, Real ai, Real aj) {
+    return oil_trace ? aj > ai && aj + ai <= 1 : aj < ai && aj >= 1 - ai;
+  };
+  // The neighbour richest in the trace's phase that can take it, or none.
+  const auto find_recipient = [&](Index i) {
     const Real ai = alpha[i];
-    const bool oil_trace = ai > 0 && ai < trace;
-    const bool water_trace = ai < 1 && ai > 1 - trace;
-    if (!oil_trace && !water_trace) continue;
-    // The neighbour richest in the trace's phase that has room for it, and richer than i: traces
-    // rejoin the bulk of their phase rather than wander.
+    const bool oil_trace = is_oil_trace(ai);
     Index recipient = kNoParticle;
+    if (!oil_trace && !is_water_trace(ai)) return recipient;
     Real recipient_alpha = ai;
     nb.fluid.for_each(i, [&](Index j, Index) {
       const Real aj = alpha[j];
-      const bool better =
-          oil_trace ? aj > recipient_alpha && aj + ai <= 1 : aj < recipient_alpha && aj >= 1 - ai;
-      if (better) {
+      const bool richer = oil_trace ? aj > recipient_alpha : aj < recipient_alpha;
+      if (richer && can_take(oil_trace, ai, aj)) {
         recipient = j;
         recipient_alpha = aj;
       }
     });
+    return recipient;
+  };
+  // Searched in parallel from the fractions as they stand...
+  const long m = long(interface_.size());
+  chosen_recipient_.resize(interface_.size());
+#pragma omp parallel for schedule(dynamic, 64)
+  for (long li = 0; li < m; ++li)
+    chosen_recipient_[size_t(li)] = find_recipient(interface_[size_t(li)]);
+  // ...and handed over in interface order, so that the result does not depend on the thread
+  // count. Where an earlier hand-over filled the chosen recipient (traces crowd around the
+  // same rich particle) or changed the trace, the search is made again from the current
+  // fractions, as a serial pass would have.
+  for (long li = 0; li < m; ++li) {
+    Index recipient = chosen_recipient_[size_t(li)];
+    if (recipient == kNoParticle) continue;
+    const Index i = interface_[size_t(li)];
+    const Real ai = alpha[i];
+    const bool oil_trace = is_oil_trace(ai);
+    if (!oil_trace && !is_water_trace(ai)) continue;
+    if (!can_take(oil_trace, ai, alpha[recipient])) recipient = find_recipient(i);
     if (recipient == kNoParticle) continue;
     if (oil_trace) {
       alpha[recipient] += ai;
@@ -242,8 +259,12 @@ void MixtureModel::transport(FluidParticles& fluid, const ParticleNeighbourhood&
     }
   }
   Real* alpha = fluid.oil_fraction.data();
-  for (Index i : interface_)
+  const long m = long(interface_.size());
+#pragma omp parallel for schedule(static)
+  for (long li = 0; li < m; ++li) {
+    const Index i = interface_[size_t(li)];
     alpha[i] = std::clamp(alpha[i] + fraction_change_[i], Real(0), Real(1));
+  }
   absorb_traces(fluid, nb);
   const auto update_mixture = [&](Index i) {
     const PhaseMix mix =
@@ -254,7 +275,8 @@ void MixtureModel::transport(FluidParticles& fluid, const ParticleNeighbourhood&
     fluid.viscosity[i] = mix.viscosity;
     fluid.type[i] = mix.type;
   };
-  for (Index i : interface_) update_mixture(i);
+#pragma omp parallel for schedule(static)
+  for (long li = 0; li < m; ++li) update_mixture(interface_[size_t(li)]);
   for (Index i : trace_recipients_) update_mixture(i);
   // Dv/Dt of this step for the next step's slip term.
   const long n = long(fluid.active_count());
