@@ -183,7 +183,6 @@ void MixtureModel::exchange_and_drift_momentum(FluidParticles& fluid,
 }
 
 void MixtureModel::absorb_traces(FluidParticles& fluid, const ParticleNeighbourhood& nb) {
-  trace_recipients_.clear();
   const Real trace = config_.trace_fraction;
   if (trace <= 0) return;
   Real* alpha = fluid.oil_fraction.data();
@@ -237,7 +236,6 @@ void MixtureModel::absorb_traces(FluidParticles& fluid, const ParticleNeighbourh
       alpha[recipient] -= 1 - ai;
       alpha[i] = 1;
     }
-    trace_recipients_.push_back(recipient);
   }
 }
 
@@ -276,9 +274,10 @@ void MixtureModel::transport(FluidParticles& fluid, const ParticleNeighbourhood&
     fluid.viscosity[i] = mix.viscosity;
     fluid.type[i] = mix.type;
   };
+  // Every particle whose fraction changed is on the interface, a trace's recipient included: it
+  // neighbours a mixed particle, so its composition differs from a neighbour's or is mixed.
 #pragma omp parallel for schedule(static)
   for (long li = 0; li < m; ++li) update_mixture(interface_[size_t(li)]);
-  for (Index i : trace_recipients_) update_mixture(i);
   // Dv/Dt of this step for the next step's slip term.
   const long n = long(fluid.active_count());
   const Real inv_dt = Real(1) / dt;

@@ -99,7 +99,6 @@ class MixtureModel {
   std::vector<Real> exchange_;              // [pairs] oil moved from i to j this step
   std::vector<Real> limit_oil_;             // [n] share of its oil outflow a particle can give
   std::vector<Real> limit_water_;           // [n] same for water
-  std::vector<Index> trace_recipients_;     // particles that took a trace this step
   std::vector<Index> chosen_recipient_;     // [interface] where each trace goes, if anywhere
   std::vector<Vec3> step_start_velocity_;   // [n] velocity when the last step began
   std::vector<Index> step_start_id_;  // [n] whose velocity and rate these are (slots get reused)
