@@ -89,6 +89,8 @@ nlohmann::json by_horizon(const std::vector<TrajectoryScores>& scores,
 }  // namespace
 
 void run_eval(const EvalOptions& o) {
+  common::OutputFolder output(o.common.out_dir,
+                              output_policy(o.common, {"eval.json", "error_vs_horizon.svg"}));
   LoadedData d = load_data(o.common);
   std::vector<TrajectoryScores> scores;
   nlohmann::json per_trajectory = nlohmann::json::array();
@@ -146,15 +148,13 @@ void run_eval(const EvalOptions& o) {
       {"threads", o.common.threads},
       {"per_trajectory", per_trajectory}};
 
-  const fs::path out = o.common.out_dir;
-  fs::create_directories(out);
+  const fs::path out = output.staging();
   const std::string json_file = (out / "eval.json").string();
   {
-    std::ofstream f(json_file + ".tmp");
+    std::ofstream f(json_file);
     f << result.dump(2) << "\n";
     if (!f) throw std::runtime_error(json_file + ": cannot write");
   }
-  fs::rename(json_file + ".tmp", json_file);
   std::vector<gnn::PlotSeries> series;
   for (size_t k = 0; k < scores.size(); ++k) {
     gnn::PlotSeries p{
@@ -168,10 +168,11 @@ void run_eval(const EvalOptions& o) {
   gnn::write_line_plot((out / "error_vs_horizon.svg").string(),
                        "Rollout position error of " + d.checkpoint.simulator->model().name(),
                        "frames after the start", "position MSE (m^2)", series, true);
+  output.commit();
   if (o.common.log)
     *o.common.log << "one-step MSE " << result["one_step_mse"].get<double>()
                   << " m^2, rollout MSE (all frames) " << result["rollout_mse"]["all"].get<double>()
-                  << " m^2; written to " << json_file << "\n";
+                  << " m^2; written to " << (output.target() / "eval.json").string() << "\n";
 }
 
 }  // namespace infer

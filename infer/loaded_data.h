@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <vector>
 
+#include "common/output_folder.h"
 #include "gnn/checkpoint.h"
 #include "gnn/dataset.h"
 #include "infer/commands.h"
@@ -26,6 +27,18 @@ inline LoadedData load_data(const CommonOptions& o) {
   d.trajectories = gnn::read_split(o.data_dir, o.split, d.metadata);
   d.checkpoint.simulator->model().eval();
   return d;
+}
+
+// The command's output folder: staged beside OUT and renamed into place at the end; an existing
+// OUT is replaced only when it holds `markers` (an earlier output of the same command).
+inline common::OutputFolderPolicy output_policy(const CommonOptions& o,
+                                                std::vector<std::string> markers) {
+  common::OutputFolderPolicy policy;
+  policy.markers = std::move(markers);
+  policy.replace = true;
+  policy.inputs = {o.checkpoint, o.data_dir};
+  policy.log = o.log;
+  return policy;
 }
 
 }  // namespace infer

@@ -5,6 +5,7 @@
 #include <CLI/CLI.hpp>
 #include <iostream>
 
+#include "common/output_folder.h"
 #include "gnn/checkpoint.h"
 #include "gnn/dataset.h"
 #include "gnn/runtime.h"
@@ -57,6 +58,9 @@ int main(int argc, char** argv) {
     return 2;
   } catch (const gnn::DatasetError& e) {
     std::cerr << "spill-infer: dataset error: " << e.what() << "\n";
+    return 2;
+  } catch (const common::OutputPathError& e) {
+    std::cerr << "spill-infer: " << e.what() << "\n";
     return 2;
   } catch (const std::exception& e) {
     std::cerr << "spill-infer: " << e.what() << "\n";

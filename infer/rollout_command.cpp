@@ -15,6 +15,8 @@ namespace infer {
 namespace fs = std::filesystem;
 
 void run_rollout(const RolloutOptions& o) {
+  common::OutputFolder output(o.common.out_dir,
+                              output_policy(o.common, {"timing.json", "metadata.json"}));
   LoadedData d = load_data(o.common);
   if (o.trajectory < 0 || o.trajectory >= int(d.trajectories.size()))
     throw std::invalid_argument("--trajectory " + std::to_string(o.trajectory) + ": the " +
@@ -40,12 +42,7 @@ void run_rollout(const RolloutOptions& o) {
       });
   if (progress) progress->finish("");
 
-  // Everything is written to OUT.tmp and renamed at the end: no half output on failure.
-  const fs::path out = o.common.out_dir, tmp = o.common.out_dir + ".tmp";
-  if (fs::exists(out) && !fs::is_empty(out) && !fs::exists(out / "timing.json"))
-    throw std::invalid_argument("--out " + out.string() +
-                                ": exists and is not an earlier rollout; choose another folder");
-  fs::remove_all(tmp);
+  const fs::path out = output.target(), tmp = output.staging();
   fs::create_directories(tmp / "frames");
   sph::RecordedTrajectory rec;
   rec.time = t.time.slice(0, o.from, o.from + frames + 1).clone();
@@ -100,8 +97,7 @@ void run_rollout(const RolloutOptions& o) {
        "sph_seconds_per_frame is the SPH's time for the same frames when the dataset "
        "was generated (0 when the dataset does not record it)"}};
   std::ofstream(tmp / "timing.json") << timing.dump(2) << "\n";
-  fs::remove_all(out);
-  fs::rename(tmp, out);
+  output.commit();
   if (o.common.log)
     *o.common.log << "rollout of " << frames << " frames (" << std::setprecision(3)
                   << wall / double(frames) << " s per frame; SPH " << t.sph_seconds_per_frame

@@ -17,6 +17,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "common/output_folder.h"
 #include "sph/config_error.h"
 #include "sph/dataset_generator.h"
 #include "sph/floating_point.h"
@@ -57,7 +58,9 @@ int main(int argc, char** argv) {
   run->add_option("--threads", threads, "OpenMP threads (default: all cores)");
   run->add_flag("--ply", ply, "Write a PLY file per frame");
   run->add_flag("--png", png, "Write side- and top-view PNG pictures per frame");
-  run->add_flag("--force", force, "Replace an existing output folder");
+  run->add_flag(
+      "--force", force,
+      "Replace an earlier run folder (only one of ours; it is removed after the new run succeeds)");
   std::string initial_state;
   double save_state_at = -1;
   run->add_option("--initial-state", initial_state,
@@ -141,7 +144,7 @@ int main(int argc, char** argv) {
       std::signal(SIGINT, request_stop);
       std::signal(SIGTERM, request_stop);
       gen.scene_file = gen_scene;
-      gen.out_dir = gen_out;
+      gen.out_dir = common::normalise_output_path(gen_out);
       gen.overrides = gen_overrides;
       for (const auto& v : gen_vary) gen.vary.push_back(sph::parse_parameter_range(v));
       std::array<double, 3> split{};
@@ -194,6 +197,9 @@ int main(int argc, char** argv) {
       return 0;
     }
   } catch (const sph::ConfigError& e) {
+    std::cerr << "error: " << e.what() << "\n";
+    return 2;
+  } catch (const common::OutputPathError& e) {
     std::cerr << "error: " << e.what() << "\n";
     return 2;
   } catch (const sph::RunInterrupted& e) {

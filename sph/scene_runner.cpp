@@ -11,6 +11,7 @@
 #include <iostream>
 #include <sstream>
 
+#include "common/output_folder.h"
 #include "sph/config_error.h"
 #include "sph/config_visitors.h"
 #include "sph/image_writer.h"
@@ -120,16 +121,6 @@ void write_pictures(const Simulation& sim, const FrameRenderer& renderer, const 
               renderer.render(fluid, types, ViewAxis::kRiver));
 }
 
-// Removes the staging folder unless the run succeeded and renamed it.
-struct StagingGuard {
-  fs::path path;
-  bool keep = false;
-  ~StagingGuard() {
-    std::error_code ec;
-    if (!keep) fs::remove_all(path, ec);
-  }
-};
-
 }  // namespace
 
 nlohmann::json machine_description(int threads) {
@@ -181,18 +172,16 @@ nlohmann::json run_metadata(const Simulation& sim, const LoadedScene& scene, int
 }
 
 nlohmann::json run_scene(const LoadedScene& scene, const RunOptions& options) {
-  const fs::path out = options.out_dir;
-  if (out.empty()) throw SimulationError("no output folder given");
-  if (fs::exists(out) && !options.force)
-    throw SimulationError(out.string() + ": already exists (use --force to replace it)");
-  const fs::path parent = out.parent_path().empty() ? fs::path(".") : out.parent_path();
-  fs::create_directories(parent);
-  StagingGuard staging{
-      parent / ("." + out.filename().string() + ".partial-" + std::to_string(long(getpid())))};
-  fs::remove_all(staging.path);
-  fs::create_directories(staging.path);
-  if (options.ply) fs::create_directories(staging.path / "ply");
-  if (options.png) fs::create_directories(staging.path / "png");
+  common::OutputFolderPolicy policy;
+  policy.markers = {"metadata.json", "trajectory.h5", "stats.json"};
+  policy.replace = options.force;
+  policy.inputs = {scene.file};
+  if (!options.initial_state.empty()) policy.inputs.push_back(options.initial_state);
+  policy.log = options.log;
+  common::OutputFolder output(options.out_dir.string(), policy);
+  const fs::path& staging = output.staging();
+  if (options.ply) fs::create_directories(staging / "ply");
+  if (options.png) fs::create_directories(staging / "png");
 
   Simulation sim(scene.config);
   const int frames = frame_count(scene.config);
@@ -215,12 +204,12 @@ nlohmann::json run_scene(const LoadedScene& scene, const RunOptions& options) {
                             std::to_string(scene.config.end_time) + " s (frames every " +
                             std::to_string(frame_dt) + " s)");
   }
-  write_json(staging.path / "metadata.json", run_metadata(sim, scene, frames - first));
+  write_json(staging / "metadata.json", run_metadata(sim, scene, frames - first));
 
   std::vector<std::int32_t> types(sim.fluid().size());
   for (Index i = 0; i < sim.fluid().size(); ++i)
     types[sim.fluid().id[i]] = std::int32_t(sim.fluid().type[i]);
-  TrajectoryWriter writer((staging.path / "trajectory.h5").string(), "00000", types,
+  TrajectoryWriter writer((staging / "trajectory.h5").string(), "00000", types,
                           sim.boundary().position);
   std::unique_ptr<FrameRenderer> renderer;
   if (options.png)
@@ -247,21 +236,20 @@ nlohmann::json run_scene(const LoadedScene& scene, const RunOptions& options) {
     writer.append(sim.time(), sim.in_id_order(f.position), sim.in_id_order(f.velocity), active,
                   sim.in_id_order(f.oil_fraction));
     if (options.ply)
-      write_ply((staging.path / "ply" / frame_file("fluid", frame, "ply")).string(),
-                fluid_points(sim));
-    if (renderer) write_pictures(sim, *renderer, staging.path / "png", frame);
+      write_ply((staging / "ply" / frame_file("fluid", frame, "ply")).string(), fluid_points(sim));
+    if (renderer) write_pictures(sim, *renderer, staging / "png", frame);
   };
   if (options.ply) {
     PlyPoints b;
     b.position = sim.boundary().position;
     b.type.assign(b.position.size(), std::int32_t(ParticleType::kBoundary));
-    write_ply((staging.path / "ply" / "boundary.ply").string(), b);
+    write_ply((staging / "ply" / "boundary.ply").string(), b);
   }
 
   nlohmann::json frame_list = nlohmann::json::array();
   frame_list.push_back(frame_json(sim, FrameStats{}));
   record(first);
-  if (save_frame == first) sim.save_state((staging.path / "state.h5").string());
+  if (save_frame == first) sim.save_state((staging / "state.h5").string());
   ProgressReporter progress(options.log ? *options.log : std::cerr, options.terminal, frames,
                             "simulating " + scene.config.name);
   const auto t0 = std::chrono::steady_clock::now();
@@ -274,7 +262,7 @@ nlohmann::json run_scene(const LoadedScene& scene, const RunOptions& options) {
     it_divergence += f.iterations_divergence * f.steps;
     frame_list.push_back(frame_json(sim, f));
     record(frame);
-    if (frame == save_frame) sim.save_state((staging.path / "state.h5").string());
+    if (frame == save_frame) sim.save_state((staging / "state.h5").string());
     if (options.log) progress.update(frame, frame_detail(sim, f));
   }
   const double wall_s = seconds_since(t0);
@@ -282,20 +270,18 @@ nlohmann::json run_scene(const LoadedScene& scene, const RunOptions& options) {
   const double steps = double(std::max(1L, sim.steps()));
   nlohmann::json summary =
       summary_json(sim, wall_s, it_density / steps, it_divergence / steps, options.threads);
-  write_json(staging.path / "stats.json", {{"frames", frame_list}, {"summary", summary}});
+  write_json(staging / "stats.json", {{"frames", frame_list}, {"summary", summary}});
   if (options.png)
-    encode_animation(staging.path, scene.config.terrain_grid ? "river" : "side", first,
-                     1 / frame_dt, options.log);
+    encode_animation(staging, scene.config.terrain_grid ? "river" : "side", first, 1 / frame_dt,
+                     options.log);
   if (spill) {
-    write_json(staging.path / "spill.json", spill->to_json());
-    write_spill_plot((staging.path / "spill.svg").string(), spill->frames(),
+    write_json(staging / "spill.json", spill->to_json());
+    write_spill_plot((staging / "spill.svg").string(), spill->frames(),
                      scene.config.name + ": spill metrics");
   }
   if (options.log) progress.finish(std::to_string(sim.steps()) + " steps");
 
-  if (fs::exists(out)) fs::remove_all(out);
-  fs::rename(staging.path, out);
-  staging.keep = true;
+  output.commit();
   return summary;
 }
 

@@ -6,6 +6,7 @@
 #include <CLI/CLI.hpp>
 #include <iostream>
 
+#include "common/output_folder.h"
 #include "gnn/checkpoint.h"
 #include "gnn/dataset.h"
 #include "gnn/runtime.h"
@@ -39,6 +40,7 @@ int main(int argc, char** argv) {
   options.log = &std::cerr;
   options.terminal = isatty(2);
   try {
+    options.out_dir = common::normalise_output_path(options.out_dir).string();
     train::Trainer trainer(options);
     const double loss = trainer.run();
     std::cout << "trained to step " << trainer.step() << ", loss " << loss << "; run in "
@@ -51,6 +53,9 @@ int main(int argc, char** argv) {
     return 2;
   } catch (const gnn::CheckpointError& e) {
     std::cerr << "spill-train: checkpoint error: " << e.what() << "\n";
+    return 2;
+  } catch (const common::OutputPathError& e) {
+    std::cerr << "spill-train: " << e.what() << "\n";
     return 2;
   } catch (const std::exception& e) {
     std::cerr << "spill-train: " << e.what() << "\n";

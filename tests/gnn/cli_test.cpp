@@ -41,9 +41,17 @@ TEST(Cli, TrainRollOutAndEvaluateOnATinyDataset) {
   for (const char* h : {"1", "5", "10", "all"}) EXPECT_TRUE(eval["rollout_mse"].contains(h)) << h;
   EXPECT_TRUE(fs::exists(dir / "eval/error_vs_horizon.svg"));
 
-  ASSERT_EQ(run(infer + " rollout" + ckpt + " --trajectory 0 --from 5 --frames 10 --out " +
-                (dir / "rollout").string()),
-            0);
+  // A trailing slash names the folder itself; a second rollout replaces the first.
+  for (int repeat = 0; repeat < 2; ++repeat)
+    ASSERT_EQ(run(infer + " rollout" + ckpt + " --trajectory 0 --from 5 --frames 10 --out " +
+                  (dir / "rollout").string() + "/"),
+              0);
+  for (const auto& e : fs::directory_iterator(dir))
+    EXPECT_EQ(e.path().filename().string().find(".rollout"), std::string::npos) << e.path();
+  // The working folder, or a folder holding the data, is never an output folder.
+  EXPECT_EQ(run("cd " + data + " && " + infer + " rollout" + ckpt + " --out ."), 2);
+  EXPECT_EQ(run(infer + " eval" + ckpt + " --out " + dir.string()), 2);
+  EXPECT_TRUE(fs::exists(data + "/metadata.json"));
   EXPECT_TRUE(fs::exists(dir / "rollout/rollout.h5"));
   EXPECT_TRUE(fs::exists(dir / "rollout/frames/compare_0015.png"));
   nlohmann::json timing;

@@ -3,11 +3,13 @@
 
 #include <gtest/gtest.h>
 #include <hdf5.h>
+#include <sys/wait.h>
 
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 
+#include "common/output_folder.h"
 #include "sph/config_error.h"
 #include "sph/scene_runner.h"
 
@@ -202,12 +204,63 @@ TEST(RunOutputs, ExistingFolderIsNotClobberedWithoutForce) {
   RunOptions options;
   options.out_dir = dir / "run";
   const LoadedScene scene = parse_scene(small_scene(), "small.json");
-  EXPECT_THROW(run_scene(scene, options), SimulationError);
-  EXPECT_TRUE(fs::exists(dir / "run" / "keep.txt"));
+  EXPECT_THROW(run_scene(scene, options), common::OutputPathError);
+  // --force replaces only an earlier run folder, never a folder of somebody else's.
   options.force = true;
+  EXPECT_THROW(run_scene(scene, options), common::OutputPathError);
+  EXPECT_TRUE(fs::exists(dir / "run" / "keep.txt"));
+  options.out_dir = dir / "ours";
   run_scene(scene, options);
-  EXPECT_FALSE(fs::exists(dir / "run" / "keep.txt"));
+  std::ofstream(dir / "ours" / "mark.txt") << "from the first run";
+  run_scene(scene, options);
+  EXPECT_FALSE(fs::exists(dir / "ours" / "mark.txt"));
+  EXPECT_TRUE(fs::exists(dir / "ours" / "trajectory.h5"));
+  fs::remove_all(dir);
+}
+
+// A replacement that fails keeps the earlier run: it is removed only after the new one succeeded.
+TEST(RunOutputs, FailedForcedRunKeepsTheEarlierRun) {
+  const fs::path dir = fresh_dir("spill_run_keep");
+  RunOptions options;
+  options.out_dir = dir / "run";
+  run_scene(parse_scene(small_scene(), "small.json"), options);
+  auto escape = small_scene();
+  escape["boxes"] = nlohmann::json::array();  // the block falls out of the domain
+  escape["end_time"] = 1.0;
+  options.force = true;
+  EXPECT_THROW(run_scene(parse_scene(escape, "escape.json"), options), SimulationError);
   EXPECT_TRUE(fs::exists(dir / "run" / "trajectory.h5"));
+  for (const auto& e : fs::directory_iterator(dir))
+    EXPECT_EQ(e.path().filename(), "run") << "left over: " << e.path();
+  fs::remove_all(dir);
+}
+
+// The reproductions as a user typed them: `--out . --force` deleted every file of the working
+// folder, and `--out runs/new/` put the staging folder inside its target and lost the run.
+TEST(RunOutputs, DotAndTrailingSlashOutFoldersAreSafe) {
+  const fs::path dir = fresh_dir("spill_run_dot");
+  std::ofstream(dir / "notes.txt") << "precious";
+  const std::string scene = std::string(SPILL_SOURCE_DIR) + "/configs/scenes/hydrostatic.json";
+  auto spill_sim = [&](const std::string& args) {
+    const std::string command = "cd " + dir.string() + " && " + SPILL_SIM_EXE + " run --scene " +
+                                scene + " --set /end_time=0.04 --set /output/frame_dt=0.02 " +
+                                args + " > log.txt 2>&1";
+    const int status = std::system(command.c_str());
+    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  };
+  EXPECT_EQ(spill_sim("--out . --force"), 2);
+  EXPECT_EQ(spill_sim("--out ./ --force"), 2);
+  EXPECT_TRUE(fs::exists(dir / "notes.txt"));
+  std::ifstream log(dir / "log.txt");
+  const std::string message((std::istreambuf_iterator<char>(log)), {});
+  EXPECT_NE(message.find("current folder"), std::string::npos) << message;
+
+  EXPECT_EQ(spill_sim("--out runs/new/"), 0);
+  EXPECT_TRUE(fs::exists(dir / "runs" / "new" / "trajectory.h5"));
+  EXPECT_EQ(spill_sim("--out runs/new/ --force"), 0);
+  EXPECT_TRUE(fs::exists(dir / "runs" / "new" / "trajectory.h5"));
+  for (const auto& e : fs::directory_iterator(dir / "runs"))
+    EXPECT_EQ(e.path().filename(), "new") << "left over: " << e.path();
   fs::remove_all(dir);
 }
 
