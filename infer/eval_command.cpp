@@ -3,13 +3,13 @@
 #include <map>
 #include <numeric>
 
-#include "gnn/frame_window.h"
-#include "gnn/metrics.h"
-#include "gnn/rollout.h"
-#include "gnn/svg_plot.h"
+#include "common/progress.h"
+#include "common/svg_plot.h"
+#include "gnn/data/frame_window.h"
+#include "gnn/eval/metrics.h"
+#include "gnn/eval/rollout.h"
 #include "infer/commands.h"
 #include "infer/loaded_data.h"
-#include "sph/progress.h"
 
 namespace infer {
 namespace fs = std::filesystem;
@@ -94,10 +94,10 @@ void run_eval(const EvalOptions& o) {
   LoadedData d = load_data(o.common);
   std::vector<TrajectoryScores> scores;
   nlohmann::json per_trajectory = nlohmann::json::array();
-  std::unique_ptr<sph::ProgressReporter> progress;
+  std::unique_ptr<common::ProgressReporter> progress;
   if (o.common.log)
-    progress = std::make_unique<sph::ProgressReporter>(*o.common.log, false,
-                                                       int64_t(d.trajectories.size()), "eval");
+    progress = std::make_unique<common::ProgressReporter>(*o.common.log, false,
+                                                          int64_t(d.trajectories.size()), "eval");
   for (size_t k = 0; k < d.trajectories.size(); ++k) {
     const auto& t = d.trajectories[k];
     const int64_t available = t.frames() - 1 - o.from;
@@ -155,9 +155,9 @@ void run_eval(const EvalOptions& o) {
     f << result.dump(2) << "\n";
     if (!f) throw std::runtime_error(json_file + ": cannot write");
   }
-  std::vector<gnn::PlotSeries> series;
+  std::vector<common::PlotSeries> series;
   for (size_t k = 0; k < scores.size(); ++k) {
-    gnn::PlotSeries p{
+    common::PlotSeries p{
         d.trajectories[k].source.substr(d.trajectories[k].source.rfind('/') + 1), {}, {}};
     for (size_t h = 0; h < scores[k].mse.size(); ++h) {
       p.x.push_back(double(h + 1));
@@ -165,9 +165,9 @@ void run_eval(const EvalOptions& o) {
     }
     series.push_back(p);
   }
-  gnn::write_line_plot((out / "error_vs_horizon.svg").string(),
-                       "Rollout position error of " + d.checkpoint.simulator->model().name(),
-                       "frames after the start", "position MSE (m^2)", series, true);
+  common::write_line_plot((out / "error_vs_horizon.svg").string(),
+                          "Rollout position error of " + d.checkpoint.simulator->model().name(),
+                          "frames after the start", "position MSE (m^2)", series, true);
   output.commit();
   if (o.common.log)
     *o.common.log << "one-step MSE " << result["one_step_mse"].get<double>()

@@ -7,8 +7,8 @@
 #include <vector>
 
 #include "common/output_folder.h"
-#include "gnn/checkpoint.h"
-#include "gnn/dataset.h"
+#include "gnn/data/dataset.h"
+#include "gnn/training/checkpoint.h"
 #include "infer/commands.h"
 
 namespace infer {

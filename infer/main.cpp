@@ -5,12 +5,12 @@
 #include <CLI/CLI.hpp>
 #include <iostream>
 
+#include "common/config_error.h"
 #include "common/output_folder.h"
-#include "gnn/checkpoint.h"
-#include "gnn/dataset.h"
-#include "gnn/runtime.h"
+#include "gnn/data/dataset.h"
+#include "gnn/runtime/runtime.h"
+#include "gnn/training/checkpoint.h"
 #include "infer/commands.h"
-#include "sph/config_error.h"
 
 namespace {
 void add_common(CLI::App* c, infer::CommonOptions& o) {

@@ -4,12 +4,12 @@
 #include <numeric>
 #include <sstream>
 
-#include "gnn/rollout.h"
+#include "common/progress.h"
+#include "gnn/eval/rollout.h"
 #include "infer/commands.h"
 #include "infer/loaded_data.h"
 #include "infer/side_by_side.h"
-#include "sph/progress.h"
-#include "sph/tensor_recorder.h"
+#include "sph/io/tensor_recorder.h"
 
 namespace infer {
 namespace fs = std::filesystem;
@@ -33,9 +33,9 @@ void run_rollout(const RolloutOptions& o) {
                                 std::to_string(available) + " frames follow frame " +
                                 std::to_string(o.from) + " in " + t.source);
 
-  std::unique_ptr<sph::ProgressReporter> progress;
+  std::unique_ptr<common::ProgressReporter> progress;
   if (o.common.log)
-    progress = std::make_unique<sph::ProgressReporter>(*o.common.log, false, frames, "rollout");
+    progress = std::make_unique<common::ProgressReporter>(*o.common.log, false, frames, "rollout");
   auto r =
       gnn::rollout(*d.checkpoint.simulator, t, o.from, frames, d.metadata.frame_dt, [&](int64_t k) {
         if (progress) progress->update(k, "");

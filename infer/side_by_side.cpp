@@ -1,33 +1,34 @@
 #include "infer/side_by_side.h"
 
-#include "sph/image_writer.h"
+#include "common/image_writer.h"
 
 namespace infer {
 
 struct SideBySideRenderer::Impl {
-  sph::FrameRenderer renderer;
+  common::FrameRenderer renderer;
   torch::Tensor type;
 };
 
 namespace {
-std::vector<sph::Vec3> points(const torch::Tensor& p) {
+std::vector<common::Point> points(const torch::Tensor& p) {
   auto c = p.to(torch::kFloat32).contiguous();
-  std::vector<sph::Vec3> out(size_t(c.size(0)));
+  std::vector<common::Point> out(size_t(c.size(0)));
   const float* d = c.data_ptr<float>();
-  for (size_t i = 0; i < out.size(); ++i) out[i] = sph::Vec3(d[3 * i], d[3 * i + 1], d[3 * i + 2]);
+  for (size_t i = 0; i < out.size(); ++i)
+    out[i] = common::Point(d[3 * i], d[3 * i + 1], d[3 * i + 2]);
   return out;
 }
 }  // namespace
 
 SideBySideRenderer::SideBySideRenderer(const gnn::Trajectory& t, const gnn::DatasetMetadata& m,
                                        int width) {
-  sph::Aabb bounds;
+  common::Bounds bounds;
   for (int k = 0; k < 3; ++k) {
-    bounds.min[k] = sph::Real(m.bounds[size_t(k)][0]);
-    bounds.max[k] = sph::Real(m.bounds[size_t(k)][1]);
+    bounds.min[k] = float(m.bounds[size_t(k)][0]);
+    bounds.max[k] = float(m.bounds[size_t(k)][1]);
   }
   impl_ = std::make_shared<Impl>(
-      Impl{sph::FrameRenderer(points(t.boundary), bounds, sph::Real(m.particle_radius), width),
+      Impl{common::FrameRenderer(points(t.boundary), bounds, float(m.particle_radius), width),
            t.particle_type});
 }
 
@@ -36,15 +37,16 @@ void SideBySideRenderer::write(const std::string& png, const torch::Tensor& trut
                                const torch::Tensor& predicted_active) const {
   auto view = [&](const torch::Tensor& position, const torch::Tensor& active) {
     auto ids = active.nonzero().view(-1);
-    auto types = impl_->type.index_select(0, ids).to(torch::kInt32).contiguous();
-    std::vector<std::int32_t> type(types.data_ptr<std::int32_t>(),
-                                   types.data_ptr<std::int32_t>() + types.numel());
+    auto oil = (impl_->type.index_select(0, ids) == gnn::kOil).to(torch::kUInt8).contiguous();
+    std::vector<std::uint8_t> type(oil.data_ptr<std::uint8_t>(),
+                                   oil.data_ptr<std::uint8_t>() + oil.numel());
     return impl_->renderer.render(points(position.index_select(0, ids)), type,
-                                  sph::ViewAxis::kRiver);
+                                  common::ViewAxis::kRiver);
   };
-  const sph::RgbImage left = view(truth, truth_active), right = view(predicted, predicted_active);
+  const common::RgbImage left = view(truth, truth_active),
+                         right = view(predicted, predicted_active);
   const int gap = 8;
-  sph::RgbImage out;
+  common::RgbImage out;
   out.width = left.width + gap + right.width;
   out.height = std::max(left.height, right.height);
   out.pixels.assign(size_t(out.width) * size_t(out.height) * 3, 255);
@@ -58,7 +60,7 @@ void SideBySideRenderer::write(const std::string& png, const torch::Tensor& trut
         out.pixels[(size_t(y) * size_t(out.width) + size_t(x + left.width + gap)) * 3 + size_t(c)] =
             right.pixels[(size_t(y) * size_t(right.width) + size_t(x)) * 3 + size_t(c)];
   }
-  sph::write_png(png, out);
+  common::write_png(png, out);
 }
 
 }  // namespace infer

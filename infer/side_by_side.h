@@ -7,7 +7,7 @@
 
 #include <string>
 
-#include "gnn/dataset.h"
+#include "gnn/data/dataset.h"
 
 namespace infer {
 

@@ -6,11 +6,11 @@
 #include <CLI/CLI.hpp>
 #include <iostream>
 
+#include "common/config_error.h"
 #include "common/output_folder.h"
-#include "gnn/checkpoint.h"
-#include "gnn/dataset.h"
-#include "gnn/runtime.h"
-#include "sph/config_error.h"
+#include "gnn/data/dataset.h"
+#include "gnn/runtime/runtime.h"
+#include "gnn/training/checkpoint.h"
 #include "train/trainer.h"
 
 int main(int argc, char** argv) {
@@ -45,7 +45,7 @@ int main(int argc, char** argv) {
     const double loss = trainer.run();
     std::cout << "trained to step " << trainer.step() << ", loss " << loss << "; run in "
               << options.out_dir << "\n";
-  } catch (const sph::ConfigError& e) {
+  } catch (const common::ConfigError& e) {
     std::cerr << "spill-train: config error: " << e.what() << "\n";
     return 2;
   } catch (const gnn::DatasetError& e) {

@@ -8,12 +8,12 @@
 #include <iomanip>
 #include <sstream>
 
-#include "gnn/frame_window.h"
-#include "gnn/noise.h"
-#include "gnn/rollout.h"
-#include "gnn/svg_plot.h"
-#include "sph/config_visitors.h"
-#include "sph/progress.h"
+#include "common/config_visitors.h"
+#include "common/progress.h"
+#include "common/svg_plot.h"
+#include "gnn/data/frame_window.h"
+#include "gnn/eval/rollout.h"
+#include "gnn/training/noise.h"
 
 namespace train {
 namespace fs = std::filesystem;
@@ -65,7 +65,7 @@ Trainer::Trainer(TrainerOptions options) : options_(std::move(options)) {
     config_.training_json = loaded.state.training_config;
     nlohmann::json t = loaded.state.training_config;
     t.erase("model");
-    sph::JsonReader::read_struct(t, last, "/training_config", config_.training);
+    common::JsonReader::read_struct(t, last, "/training_config", config_.training);
     config_.training.steps = steps;
     config_.training_json["steps"] = steps;
     simulator_ = std::move(loaded.simulator);
@@ -175,7 +175,7 @@ void Trainer::write_loss_plot() const {
   std::ifstream in((fs::path(options_.out_dir) / "log.csv").string());
   std::string line;
   std::getline(in, line);
-  gnn::PlotSeries train{"training loss", {}, {}}, valid{"valid one-step", {}, {}};
+  common::PlotSeries train{"training loss", {}, {}}, valid{"valid one-step", {}, {}};
   while (std::getline(in, line)) {
     std::vector<std::string> cells;
     std::stringstream row(line);
@@ -188,9 +188,9 @@ void Trainer::write_loss_plot() const {
       valid.y.push_back(std::stod(cells[5]));
     }
   }
-  gnn::write_line_plot((fs::path(options_.out_dir) / "loss.svg").string(),
-                       "Training of " + simulator_->model().name(), "step",
-                       "MSE of normalised acceleration", {train, valid}, true);
+  common::write_line_plot((fs::path(options_.out_dir) / "loss.svg").string(),
+                          "Training of " + simulator_->model().name(), "step",
+                          "MSE of normalised acceleration", {train, valid}, true);
 }
 
 double Trainer::run() {
@@ -210,9 +210,9 @@ double Trainer::run() {
   }
   std::ofstream log(log_file, std::ios::app);
   log << std::setprecision(9);
-  std::unique_ptr<sph::ProgressReporter> progress;
+  std::unique_ptr<common::ProgressReporter> progress;
   if (options_.log)
-    progress = std::make_unique<sph::ProgressReporter>(
+    progress = std::make_unique<common::ProgressReporter>(
         *options_.log, options_.terminal, c.steps - state_.step,
         "training to step " + std::to_string(c.steps));
   const int64_t first_step = state_.step;

@@ -13,9 +13,9 @@
 #include <string>
 #include <vector>
 
-#include "gnn/checkpoint.h"
-#include "gnn/dataset.h"
-#include "gnn/learned_simulator.h"
+#include "gnn/data/dataset.h"
+#include "gnn/models/learned_simulator.h"
+#include "gnn/training/checkpoint.h"
 #include "train/training_config.h"
 
 namespace train {

@@ -3,33 +3,33 @@
 #include <cmath>
 #include <filesystem>
 
-#include "gnn/graph_model.h"
-#include "sph/config_visitors.h"
-#include "sph/json_file.h"
+#include "common/config_visitors.h"
+#include "common/json_file.h"
+#include "gnn/models/graph_model.h"
 
 namespace train {
 
 ResolvedConfig load_training_config(const std::string& file,
                                     const std::vector<std::string>& overrides) {
-  nlohmann::json j = sph::load_json_file(file, "training config");
-  sph::apply_overrides(j, overrides, file);
-  if (!j.is_object()) throw sph::ConfigError(file, "", "expected a JSON object");
+  nlohmann::json j = common::load_json_file(file, "training config");
+  common::apply_overrides(j, overrides, file);
+  if (!j.is_object()) throw common::ConfigError(file, "", "expected a JSON object");
   nlohmann::json model_overrides = nlohmann::json::object();
   if (j.contains("model")) {
     model_overrides = j["model"];
     if (!model_overrides.is_object())
-      throw sph::ConfigError(file, "/model", "expected an object of model config keys");
+      throw common::ConfigError(file, "/model", "expected an object of model config keys");
     j.erase("model");
   }
   ResolvedConfig out;
-  sph::JsonReader::read_struct(j, file, "", out.training);
-  out.training_json = sph::JsonWriter::write_struct(out.training);
+  common::JsonReader::read_struct(j, file, "", out.training);
+  out.training_json = common::JsonWriter::write_struct(out.training);
   out.training_json["model"] = model_overrides;
   out.model_file =
       (std::filesystem::path(file).parent_path() / out.training.model_config).lexically_normal();
-  out.model_json = sph::load_json_file(out.model_file, "model config");
+  out.model_json = common::load_json_file(out.model_file, "model config");
   if (!out.model_json.is_object())
-    throw sph::ConfigError(out.model_file, "", "expected a JSON object");
+    throw common::ConfigError(out.model_file, "", "expected a JSON object");
   out.model_json.merge_patch(model_overrides);
   // Validates every model key now (unknown key, range), before any output exists.
   out.model_json =

@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "sph/param_spec.h"
+#include "common/param_spec.h"
 
 namespace train {
 
@@ -29,7 +29,7 @@ struct TrainingConfig {
 
   template <class V>
   void describe(V& v) {
-    using sph::param;
+    using common::param;
     v.field("model_config", model_config,
             param("", "model config file, relative to this file's folder").require());
     v.field("steps", steps, param("", "training steps (gradient updates) in all").at_least(1));

@@ -18,10 +18,10 @@
 #include <iostream>
 #include <nlohmann/json.hpp>
 
-#include "gnn/gns_model.h"
-#include "gnn/radius_graph.h"
-#include "gnn/runtime.h"
-#include "sph/json_file.h"
+#include "common/json_file.h"
+#include "gnn/graph/radius_graph.h"
+#include "gnn/models/gns_model.h"
+#include "gnn/runtime/runtime.h"
 #include "train/trainer.h"
 
 namespace {
@@ -111,7 +111,7 @@ int main(int argc, char** argv) {
   out["build_type"] = SPILL_BUILD_TYPE;
   out["torch_threads"] = torch::get_num_threads();
 
-  auto model_json = sph::load_json_file(model_file, "model config");
+  auto model_json = common::load_json_file(model_file, "model config");
   auto model = std::dynamic_pointer_cast<gnn::GnsModel>(gnn::make_model(model_json, model_file));
   const int64_t L = model->gns_config().latent;
   const double square = matmul_gflops(2048, 2048, 2048, repeat);

@@ -8,12 +8,12 @@
 #include <fstream>
 #include <set>
 
-#include "gnn/dataset.h"
-#include "gnn/frame_window.h"
-#include "gnn/graph_model.h"
-#include "gnn/noise.h"
-#include "gnn/radius_graph.h"
-#include "sph/config_error.h"
+#include "common/config_error.h"
+#include "gnn/data/dataset.h"
+#include "gnn/data/frame_window.h"
+#include "gnn/graph/radius_graph.h"
+#include "gnn/models/graph_model.h"
+#include "gnn/training/noise.h"
 #include "tests/gnn/tiny_dataset.h"
 #include "train/training_config.h"
 
@@ -175,19 +175,19 @@ TEST(Configs, AnUnknownKeyIsAnErrorNamingFileAndKey) {
   try {
     train::load_training_config(file, {"/learning_rate=0.1"});
     FAIL() << "no error";
-  } catch (const sph::ConfigError& e) {
+  } catch (const common::ConfigError& e) {
     EXPECT_EQ(e.file(), file);
     EXPECT_EQ(e.pointer(), "/learning_rate");
   }
   try {
     train::load_training_config(file, {"/model/latnet=3"});
     FAIL() << "no error";
-  } catch (const sph::ConfigError& e) {
+  } catch (const common::ConfigError& e) {
     EXPECT_NE(std::string(e.what()).find("/latnet"), std::string::npos) << e.what();
     EXPECT_NE(std::string(e.what()).find("gns.json"), std::string::npos) << e.what();
   }
-  EXPECT_THROW(train::load_training_config(file, {"/steps=-3"}), sph::ConfigError);
-  EXPECT_THROW(gnn::make_model({{"model", "pagatnet"}}, "x.json"), sph::ConfigError);
+  EXPECT_THROW(train::load_training_config(file, {"/steps=-3"}), common::ConfigError);
+  EXPECT_THROW(gnn::make_model({{"model", "pagatnet"}}, "x.json"), common::ConfigError);
 }
 
 TEST(Schedule, LearningRateDecaysFromMaxToMin) {

@@ -6,14 +6,14 @@
 #include <fstream>
 #include <sstream>
 
-#include "gnn/checkpoint.h"
-#include "gnn/frame_window.h"
-#include "gnn/radius_graph.h"
-#include "gnn/rollout.h"
-#include "gnn/segment_ops.h"
-#include "sph/scene.h"
-#include "sph/simulation.h"
-#include "sph/tensor_recorder.h"
+#include "gnn/data/frame_window.h"
+#include "gnn/eval/rollout.h"
+#include "gnn/graph/radius_graph.h"
+#include "gnn/graph/segment_ops.h"
+#include "gnn/training/checkpoint.h"
+#include "sph/core/scene.h"
+#include "sph/core/simulation.h"
+#include "sph/io/tensor_recorder.h"
 #include "tests/gnn/tiny_dataset.h"
 #include "train/trainer.h"
 

@@ -13,7 +13,7 @@
 #include <string>
 #include <vector>
 
-#include "sph/trajectory_writer.h"
+#include "sph/io/trajectory_writer.h"
 
 namespace tiny {
 

@@ -1,6 +1,6 @@
 // Boundary sampling and Akinci volumes.
 
-#include "sph/boundary.h"
+#include "sph/boundary/boundary.h"
 
 #include <gtest/gtest.h>
 

@@ -3,7 +3,7 @@
 // trajectories and ends identical to an uninterrupted one, the same seed gives the same data on
 // one thread, and bad requests are clear errors.
 
-#include "sph/dataset_generator.h"
+#include "sph/app/dataset_generator.h"
 
 #include <gtest/gtest.h>
 #include <hdf5.h>
@@ -12,8 +12,8 @@
 #include <filesystem>
 #include <fstream>
 
-#include "sph/config_error.h"
-#include "sph/scene_runner.h"
+#include "sph/app/scene_runner.h"
+#include "sph/core/config.h"
 
 namespace sph {
 namespace {

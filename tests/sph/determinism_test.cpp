@@ -5,8 +5,8 @@
 
 #include <cstring>
 
-#include "sph/scene.h"
-#include "sph/simulation.h"
+#include "sph/core/scene.h"
+#include "sph/core/simulation.h"
 
 namespace sph {
 namespace {

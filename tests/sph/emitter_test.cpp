@@ -1,13 +1,13 @@
 // Emitters: the released volume matches rate x duration, layers leave the outlet with the outflow
 // velocity on schedule, identities stay fixed with an `active` mask, and bad emitters are errors.
 
-#include "sph/emitter.h"
+#include "sph/boundary/emitter.h"
 
 #include <gtest/gtest.h>
 
-#include "sph/config_error.h"
-#include "sph/lattice.h"
-#include "sph/simulation.h"
+#include "sph/core/config.h"
+#include "sph/core/lattice.h"
+#include "sph/core/simulation.h"
 
 namespace sph {
 namespace {

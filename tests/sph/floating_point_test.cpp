@@ -1,7 +1,7 @@
 // flush_subnormals_to_zero: afterwards every thread of the OpenMP team computes a product that
 // would be subnormal as zero, and reads a subnormal input as zero.
 
-#include "sph/floating_point.h"
+#include "sph/core/floating_point.h"
 
 #include <gtest/gtest.h>
 #include <omp.h>

@@ -8,11 +8,11 @@
 #include <cmath>
 #include <random>
 
-#include "sph/gravity_force.h"
-#include "sph/lattice.h"
-#include "sph/surface_tension_force.h"
-#include "sph/viscosity_force.h"
-#include "sph/xsph_force.h"
+#include "sph/core/lattice.h"
+#include "sph/forces/gravity_force.h"
+#include "sph/forces/surface_tension_force.h"
+#include "sph/forces/viscosity_force.h"
+#include "sph/forces/xsph_force.h"
 
 namespace sph {
 namespace {

@@ -7,8 +7,8 @@
 #include <cmath>
 #include <iostream>
 
-#include "sph/scene.h"
-#include "sph/simulation.h"
+#include "sph/core/scene.h"
+#include "sph/core/simulation.h"
 
 namespace sph {
 namespace {

@@ -1,7 +1,7 @@
 // Kernels: normalisation (integral over space = 1, by quadrature) and gradient against central
 // finite differences.
 
-#include "sph/kernels.h"
+#include "sph/core/kernels.h"
 
 #include <gtest/gtest.h>
 

@@ -2,14 +2,15 @@
 // speed x cross-section per second, retired water comes back only after its cooldown, oil never
 // comes back, and an exhausted reserve is a clear error.
 
-#include "sph/river_flow.h"
+#include "sph/river/river_flow.h"
+#include "sph/core/simulation_error.h"
 
 #include <gtest/gtest.h>
 
 #include <string>
 
-#include "sph/config_error.h"
-#include "sph/river_generator.h"
+#include "sph/core/config.h"
+#include "sph/river/river_generator.h"
 
 namespace sph {
 namespace {

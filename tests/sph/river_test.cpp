@@ -6,10 +6,10 @@
 #include <filesystem>
 #include <iostream>
 
-#include "sph/config_error.h"
-#include "sph/scene.h"
-#include "sph/simulation.h"
-#include "sph/spill_metrics.h"
+#include "sph/core/config.h"
+#include "sph/core/scene.h"
+#include "sph/core/simulation.h"
+#include "sph/river/spill_metrics.h"
 
 namespace sph {
 namespace {

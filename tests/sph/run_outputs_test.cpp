@@ -10,8 +10,9 @@
 #include <fstream>
 
 #include "common/output_folder.h"
-#include "sph/config_error.h"
-#include "sph/scene_runner.h"
+#include "sph/app/scene_runner.h"
+#include "sph/core/config.h"
+#include "sph/core/simulation_error.h"
 
 namespace sph {
 namespace {

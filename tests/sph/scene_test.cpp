@@ -2,7 +2,7 @@
 // file and the JSON pointer; the spill-sim executable turns it into a non-zero exit and writes
 // nothing.
 
-#include "sph/scene.h"
+#include "sph/core/scene.h"
 
 #include <gtest/gtest.h>
 
@@ -10,8 +10,8 @@
 #include <filesystem>
 #include <fstream>
 
-#include "sph/config_error.h"
-#include "sph/simulation.h"
+#include "sph/core/config.h"
+#include "sph/core/simulation.h"
 
 namespace sph {
 namespace {

@@ -1,14 +1,14 @@
 // `spill-sim bench --compare`: every run is reported, the ratio is the first solver's median wall
 // time over the second's, and a bad solver fails before anything runs.
 
-#include "sph/solver_comparison.h"
+#include "sph/app/solver_comparison.h"
 
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <stdexcept>
 
-#include "sph/config_error.h"
+#include "sph/core/config.h"
 
 namespace sph {
 namespace {

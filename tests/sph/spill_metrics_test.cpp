@@ -1,11 +1,11 @@
 // Spill metrics on hand-placed oil: area from occupied top-view cells, the leading edge, bank
 // contact on the side the oil touches, arrival at a watch point, and the oil volume.
 
-#include "sph/spill_metrics.h"
+#include "sph/river/spill_metrics.h"
 
 #include <gtest/gtest.h>
 
-#include "sph/river_generator.h"
+#include "sph/river/river_generator.h"
 
 namespace sph {
 namespace {

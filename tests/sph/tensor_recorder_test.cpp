@@ -2,7 +2,7 @@
 // order, the same file as the HDF5 writer fed directly, and OpenMP's thread count untouched by
 // LibTorch.
 
-#include "sph/tensor_recorder.h"
+#include "sph/io/tensor_recorder.h"
 
 #include <gtest/gtest.h>
 #include <hdf5.h>
@@ -10,8 +10,8 @@
 
 #include <filesystem>
 
-#include "sph/scene.h"
-#include "sph/trajectory_writer.h"
+#include "sph/core/scene.h"
+#include "sph/io/trajectory_writer.h"
 
 namespace sph {
 namespace {

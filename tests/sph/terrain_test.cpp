@@ -11,12 +11,12 @@
 #include <set>
 #include <string>
 
-#include "sph/config_error.h"
-#include "sph/height_map_io.h"
-#include "sph/leak.h"
-#include "sph/river_generator.h"
-#include "sph/scene.h"
-#include "sph/simulation.h"
+#include "sph/core/config.h"
+#include "sph/core/scene.h"
+#include "sph/core/simulation.h"
+#include "sph/river/height_map_io.h"
+#include "sph/river/leak.h"
+#include "sph/river/river_generator.h"
 
 namespace sph {
 namespace {

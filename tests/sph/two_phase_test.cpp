@@ -12,8 +12,8 @@
 
 #include <Eigen/Eigenvalues>
 
-#include "sph/scene.h"
-#include "sph/simulation.h"
+#include "sph/core/scene.h"
+#include "sph/core/simulation.h"
 
 namespace sph {
 namespace {

@@ -1,0 +1,111 @@
+#include "gnn/graph/segment_ops.h"
+
+namespace gnn {
+namespace {
+
+// out[i] = sum of rows offsets[i] .. offsets[i+1] of `values`.
+torch::Tensor csr_sum(const torch::Tensor& values_in, const torch::Tensor& offsets) {
+  auto values = values_in.contiguous();
+  const int64_t n = offsets.size(0) - 1, width = values.size(1);
+  auto out = torch::empty({n, width}, values.options());
+  const float* v = values.data_ptr<float>();
+  float* o = out.data_ptr<float>();
+  const int64_t* off = offsets.data_ptr<int64_t>();
+  at::parallel_for(0, n, 256, [&](int64_t begin, int64_t end) {
+    for (int64_t i = begin; i < end; ++i) {
+      float* row = o + i * width;
+      for (int64_t c = 0; c < width; ++c) row[c] = 0;
+      for (int64_t k = off[i]; k < off[i + 1]; ++k) {
+        const float* src = v + k * width;
+        for (int64_t c = 0; c < width; ++c) row[c] += src[c];
+      }
+    }
+  });
+  return out;
+}
+
+using torch::autograd::AutogradContext;
+using torch::autograd::variable_list;
+
+struct GatherReceivers : torch::autograd::Function<GatherReceivers> {
+  static torch::Tensor forward(AutogradContext* ctx, const torch::Tensor& values,
+                               const torch::Tensor& receivers, const torch::Tensor& offsets) {
+    ctx->save_for_backward({offsets});
+    return values.index_select(0, receivers);
+  }
+  static variable_list backward(AutogradContext* ctx, variable_list grad) {
+    return {csr_sum(grad[0], ctx->get_saved_variables()[0]), torch::Tensor(), torch::Tensor()};
+  }
+};
+
+struct GatherSenders : torch::autograd::Function<GatherSenders> {
+  static torch::Tensor forward(AutogradContext* ctx, const torch::Tensor& values,
+                               const torch::Tensor& senders, const torch::Tensor& offsets,
+                               const torch::Tensor& reverse) {
+    ctx->save_for_backward({offsets, reverse});
+    return values.index_select(0, senders);
+  }
+  static variable_list backward(AutogradContext* ctx, variable_list grad) {
+    auto saved = ctx->get_saved_variables();
+    return {csr_sum(grad[0].index_select(0, saved[1]), saved[0]), torch::Tensor(), torch::Tensor(),
+            torch::Tensor()};
+  }
+};
+
+struct SumToReceivers : torch::autograd::Function<SumToReceivers> {
+  static torch::Tensor forward(AutogradContext* ctx, const torch::Tensor& edge_values,
+                               const torch::Tensor& receivers, const torch::Tensor& offsets) {
+    ctx->save_for_backward({receivers});
+    return csr_sum(edge_values, offsets);
+  }
+  static variable_list backward(AutogradContext* ctx, variable_list grad) {
+    return {grad[0].index_select(0, ctx->get_saved_variables()[0]), torch::Tensor(),
+            torch::Tensor()};
+  }
+};
+
+}  // namespace
+
+EdgeOrder edge_order(const torch::Tensor& edge_index, int64_t nodes) {
+  EdgeOrder o;
+  o.senders = edge_index[0].contiguous();
+  o.receivers = edge_index[1].contiguous();
+  const int64_t E = o.senders.size(0);
+  o.offsets = torch::zeros({nodes + 1}, torch::kInt64);
+  if (E == 0) {
+    o.reverse = torch::zeros({0}, torch::kInt64);
+    o.canonical = true;
+    return o;
+  }
+  // Sorted by (receiver, sender): the key receiver * n + sender increases strictly.
+  auto key = o.receivers * nodes + o.senders;
+  if (!(key.slice(0, 1) > key.slice(0, 0, E - 1)).all().item<bool>()) return o;
+  o.offsets.slice(0, 1) = torch::bincount(o.receivers, {}, nodes).cumsum(0);
+  auto reversed_key = o.senders * nodes + o.receivers;
+  o.reverse = torch::searchsorted(key, reversed_key);
+  o.canonical = (o.reverse < E).all().item<bool>() &&
+                torch::equal(key.index_select(0, o.reverse.clamp_max(E - 1)), reversed_key);
+  return o;
+}
+
+torch::Tensor gather_receivers(const torch::Tensor& values, const EdgeOrder& o) {
+  if (!o.canonical || values.scalar_type() != torch::kFloat32)
+    return values.index_select(0, o.receivers);
+  return GatherReceivers::apply(values, o.receivers, o.offsets);
+}
+
+torch::Tensor gather_senders(const torch::Tensor& values, const EdgeOrder& o) {
+  if (!o.canonical || values.scalar_type() != torch::kFloat32)
+    return values.index_select(0, o.senders);
+  return GatherSenders::apply(values, o.senders, o.offsets, o.reverse);
+}
+
+torch::Tensor sum_to_receivers(const torch::Tensor& edge_values, const EdgeOrder& o,
+                               int64_t nodes) {
+  if (!o.canonical || edge_values.scalar_type() != torch::kFloat32)
+    return torch::zeros({nodes, edge_values.size(1)}, edge_values.options())
+        .index_add_(0, o.receivers, edge_values);
+  return SumToReceivers::apply(edge_values, o.receivers, o.offsets);
+}
+
+}  // namespace gnn

@@ -1,0 +1,273 @@
+#include "gnn/models/gns_model.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "common/config_visitors.h"
+#include "gnn/graph/segment_ops.h"
+#include "gnn/runtime/runtime.h"
+
+namespace gnn {
+
+MlpImpl::MlpImpl(int64_t in, int64_t hidden, int64_t out, int hidden_layers, bool layer_norm) {
+  int64_t width = in;
+  for (int k = 0; k <= hidden_layers; ++k) {
+    const int64_t next = k == hidden_layers ? out : hidden;
+    layers_.push_back(
+        register_module("linear" + std::to_string(k), torch::nn::Linear(width, next)));
+    width = next;
+  }
+  if (layer_norm)
+    norm_ = register_module("norm", torch::nn::LayerNorm(torch::nn::LayerNormOptions({out})));
+}
+
+torch::Tensor MlpImpl::forward_after_first(torch::Tensor x) {
+  // relu_ in place: the Linear before it does not need its output for the backward pass.
+  for (size_t k = 1; k < layers_.size(); ++k) x = layers_[k]->forward(torch::relu_(x));
+  return norm_ ? norm_->forward(x) : x;
+}
+
+torch::Tensor MlpImpl::forward(torch::Tensor x) {
+  return forward_after_first(layers_[0]->forward(x));
+}
+
+GnsModel::GnsModel(const GnsConfig& config) : config_(config) {
+  const int64_t L = config.latent;
+  const int H = config.mlp_hidden_layers;
+  type_embedding_ =
+      register_module("type_embedding", torch::nn::Embedding(kNodeTypes, config.type_embedding));
+  node_encoder_ =
+      register_module("node_encoder", Mlp(kNodeFeatures + config.type_embedding, L, L, H, true));
+  edge_encoder_ = register_module("edge_encoder", Mlp(kEdgeFeatures, L, L, H, true));
+  for (int k = 0; k < config.layers; ++k) {
+    const std::string s = std::to_string(k);
+    edge_mlp_.push_back(register_module("edge_mlp" + s, Mlp(L, L, L, H, true)));
+    receiver_sender_.push_back(
+        register_module("edge_receiver_sender" + s,
+                        torch::nn::Linear(torch::nn::LinearOptions(L, 2 * L).bias(false))));
+    node_mlp_.push_back(register_module("node_mlp" + s, Mlp(L, L, L, H, true)));
+    aggregate_.push_back(register_module(
+        "node_aggregate" + s, torch::nn::Linear(torch::nn::LinearOptions(L, L).bias(false))));
+  }
+  decoder_ = register_module("decoder", Mlp(L, L, 3, H, false));
+}
+
+GnsModel::Latents GnsModel::encode(const GraphInput& g) {
+  return {node_encoder_->forward(
+              torch::cat({g.node_features, type_embedding_->forward(g.node_type)}, 1)),
+          edge_encoder_->forward(g.edge_features)};
+}
+
+GnsModel::Latents GnsModel::process(Latents x, const GraphInput& g) {
+  const int64_t L = config_.latent;
+  auto v = x.nodes, e = x.edges;
+  const EdgeOrder order = edge_order(g.edge_index, g.nodes());
+  // Without autograd the residual sums overwrite the latents (copies: the caller's stay intact).
+  const bool in_place = !torch::GradMode::is_enabled();
+  if (in_place) {
+    v = v.clone();
+    e = e.clone();
+  }
+  for (size_t k = 0; k < edge_mlp_.size(); ++k) {
+    if (in_place) {
+      // Inference: every product in row chunks side by side (see edge_update_in_chunks).
+      SingleThreadedBlas blas;
+      auto projected = rows_times_transposed(v, receiver_sender_[k]->weight);  // [n, 2L]
+      auto e_update = edge_update_in_chunks(k, e, projected, order);
+      auto aggregated = sum_to_receivers(e_update, order, g.nodes());
+      node_update_in_chunks(k, v, aggregated);
+      e.add_(e_update);
+      continue;
+    }
+    // Edge update from [e_ij, v_receiver, v_sender] with the first layer split per node.
+    auto projected = receiver_sender_[k]->forward(v);  // [n, 2L]
+    torch::Tensor e_update;
+    {
+      auto h = edge_mlp_[k]->first()->forward(e);
+      h.add_(gather_receivers(projected.slice(1, 0, L), order));
+      h.add_(gather_senders(projected.slice(1, L, 2 * L), order));
+      e_update = edge_mlp_[k]->forward_after_first(h);
+    }
+    auto aggregated = sum_to_receivers(e_update, order, g.nodes());
+    auto node_in = node_mlp_[k]->first()->forward(v);
+    node_in.add_(aggregate_[k]->forward(aggregated));
+    auto v_update = node_mlp_[k]->forward_after_first(node_in);
+    e = e + e_update;
+    v = v + v_update;
+  }
+  return {v, e};
+}
+
+namespace {
+
+// rows x width, in place: x = max(x + bias, 0).
+void add_bias_relu(float* x, const float* bias, int64_t rows, int64_t width) {
+  for (int64_t r = 0; r < rows; ++r, x += width)
+    for (int64_t c = 0; c < width; ++c) x[c] = std::max(x[c] + bias[c], 0.0f);
+}
+
+// out = LayerNorm(x + bias) row by row, in one pass over x (no autograd).
+// With `accumulate` the result is added to `out` (a residual), otherwise written to it.
+void add_bias_layer_norm(const float* x, const float* bias, const float* gamma, const float* beta,
+                         double eps, float* out, int64_t rows, int64_t width,
+                         bool accumulate = false) {
+  for (int64_t r = 0; r < rows; ++r, x += width, out += width) {
+    // omp simd: lets the compiler vectorise the sums (it may not reorder float additions
+    // otherwise).
+    float mean = 0;
+#pragma omp simd reduction(+ : mean)
+    for (int64_t c = 0; c < width; ++c) mean += x[c] + bias[c];
+    mean /= float(width);
+    float var = 0;
+#pragma omp simd reduction(+ : var)
+    for (int64_t c = 0; c < width; ++c) {
+      const float d = x[c] + bias[c] - mean;
+      var += d * d;
+    }
+    const float inv = 1.0f / std::sqrt(var / float(width) + float(eps));
+    if (accumulate)
+      for (int64_t c = 0; c < width; ++c)
+        out[c] += (x[c] + bias[c] - mean) * inv * gamma[c] + beta[c];
+    else
+      for (int64_t c = 0; c < width; ++c)
+        out[c] = (x[c] + bias[c] - mean) * inv * gamma[c] + beta[c];
+  }
+}
+
+constexpr int64_t kChunk = 1024;
+
+// out[r] = a[ia[r]] + b[ib[r]] for rows of `width` floats: both gathers and their sum in one pass.
+void gather_pair_sum(const float* a, const float* b, const int64_t* ia, const int64_t* ib,
+                     float* out, int64_t rows, int64_t width) {
+  for (int64_t r = 0; r < rows; ++r, out += width) {
+    const float* x = a + ia[r] * width;
+    const float* y = b + ib[r] * width;
+    for (int64_t c = 0; c < width; ++c) out[c] = x[c] + y[c];
+  }
+}
+
+// The rest of an MLP on one chunk of rows: `x` holds its first layer's activated output, `y` is
+// scratch of the same shape; the LayerNorm'ed result is written to `out` (added with
+// `accumulate`).
+void finish_mlp_chunk(MlpImpl& mlp, torch::Tensor x, torch::Tensor y, float* out, bool accumulate) {
+  const int64_t rows = x.size(0), width = x.size(1);
+  auto norm = mlp.norm();
+  for (size_t l = 1; l < mlp.linears(); ++l) {
+    auto layer = mlp.linear(l);
+    at::mm_out(y, x, layer->weight.t());
+    if (l + 1 < mlp.linears()) {
+      add_bias_relu(y.data_ptr<float>(), layer->bias.data_ptr<float>(), rows, width);
+      std::swap(x, y);
+    } else {
+      add_bias_layer_norm(y.data_ptr<float>(), layer->bias.data_ptr<float>(),
+                          norm->weight.data_ptr<float>(), norm->bias.data_ptr<float>(),
+                          norm->options.eps(), out, rows, width, accumulate);
+    }
+  }
+}
+
+}  // namespace
+
+torch::Tensor GnsModel::rows_times_transposed(const torch::Tensor& x_in, const torch::Tensor& w) {
+  auto x = x_in.contiguous();
+  auto out = torch::empty({x.size(0), w.size(0)}, x.options());
+  const int64_t rows = x.size(0);
+  at::parallel_for(0, (rows + kChunk - 1) / kChunk, 1, [&](int64_t first, int64_t last) {
+    torch::NoGradGuard no_grad;
+    for (int64_t c = first; c < last; ++c) {
+      auto o = out.slice(0, c * kChunk, std::min(rows, (c + 1) * kChunk));
+      at::mm_out(o, x.slice(0, c * kChunk, std::min(rows, (c + 1) * kChunk)), w.t());
+    }
+  });
+  return out;
+}
+
+void GnsModel::node_update_in_chunks(size_t k, torch::Tensor& v, const torch::Tensor& aggregated) {
+  const int64_t L = config_.latent, n = v.size(0);
+  Mlp& mlp = node_mlp_[k];
+  auto agg = aggregated.contiguous();
+  at::parallel_for(0, (n + kChunk - 1) / kChunk, 1, [&](int64_t first, int64_t last) {
+    torch::NoGradGuard no_grad;
+    auto a = torch::empty({kChunk, L}), b = torch::empty({kChunk, L});
+    for (int64_t c = first; c < last; ++c) {
+      const int64_t c0 = c * kChunk, c1 = std::min(n, c0 + kChunk), rows = c1 - c0;
+      auto x = a.slice(0, 0, rows), y = b.slice(0, 0, rows);
+      at::mm_out(x, v.slice(0, c0, c1), mlp->first()->weight.t());
+      x.addmm_(agg.slice(0, c0, c1), aggregate_[k]->weight.t());
+      add_bias_relu(x.data_ptr<float>(), mlp->first()->bias.data_ptr<float>(), rows, L);
+      // The residual: v += LayerNorm(...), in the same pass. Rows of v are read above only by
+      // this chunk, so updating them here is safe.
+      finish_mlp_chunk(*mlp, x, y, v.data_ptr<float>() + c0 * L, /*accumulate=*/true);
+    }
+  });
+}
+
+torch::Tensor GnsModel::edge_update_in_chunks(size_t k, const torch::Tensor& e,
+                                              const torch::Tensor& projected,
+                                              const EdgeOrder& order) {
+  const int64_t L = config_.latent, E = e.size(0);
+  // Rows per chunk (kChunk): the MLP's intermediates of one chunk (kChunk x L floats each) stay
+  // in the core's L2 cache between the matrix products and the element-wise passes.
+  Mlp& mlp = edge_mlp_[k];
+  // The first layer's bias is added once per node (to the receiver projection), not per edge.
+  auto receiver_part = (projected.slice(1, 0, L) + mlp->first()->bias).contiguous();
+  auto sender_part = projected.slice(1, L, 2 * L).contiguous();
+  auto edges = e.contiguous();
+  auto out = torch::empty_like(e);
+  // Chunks run side by side on the LibTorch threads, each op inside single-threaded (LibTorch
+  // runs nested ops serially) and BLAS held to one thread, so the cores never wait on each
+  // other's small operations. Matrix products write into per-thread buffers; bias, ReLU and
+  // LayerNorm are fused into single passes.
+  const int64_t chunks = (E + kChunk - 1) / kChunk;
+  at::parallel_for(0, chunks, 1, [&](int64_t first, int64_t last) {
+    torch::NoGradGuard no_grad;  // grad mode is per thread
+    auto a = torch::empty({kChunk, L}), b = torch::empty({kChunk, L});
+    for (int64_t c = first; c < last; ++c) {
+      const int64_t c0 = c * kChunk, c1 = std::min(E, c0 + kChunk), rows = c1 - c0;
+      auto x = a.slice(0, 0, rows), y = b.slice(0, 0, rows);
+      gather_pair_sum(receiver_part.data_ptr<float>(), sender_part.data_ptr<float>(),
+                      order.receivers.data_ptr<int64_t>() + c0,
+                      order.senders.data_ptr<int64_t>() + c0, x.data_ptr<float>(), rows, L);
+      x.addmm_(edges.slice(0, c0, c1), mlp->first()->weight.t());
+      x.relu_();
+      finish_mlp_chunk(*mlp, x, y, out.data_ptr<float>() + c0 * L, /*accumulate=*/false);
+    }
+  });
+  return out;
+}
+
+torch::Tensor GnsModel::decode(const Latents& x) {
+  return decoder_->forward(x.nodes);
+}
+
+torch::Tensor GnsModel::forward(const GraphInput& g) {
+  return decode(process(encode(g), g));
+}
+
+double GnsModel::processor_flops(int64_t nodes, int64_t edges) const {
+  const double L = config_.latent, H = config_.mlp_hidden_layers;
+  // Per step: edge MLP (first layer on e, then H more L x L layers) and the node projections
+  // [n, L] x [L, 2L]; node MLP (first layer on v and on the aggregate, then H more).
+  const double edge = double(edges) * (1 + H) * L * L + double(nodes) * 2 * L * L;
+  const double node = double(nodes) * (2 + H) * L * L;
+  return 2.0 * config_.layers * (edge + node);
+}
+
+nlohmann::json GnsModel::config() const {
+  return common::JsonWriter::write_struct(config_);
+}
+
+std::shared_ptr<GraphModel> make_model(const nlohmann::json& config, const std::string& file) {
+  if (!config.is_object()) throw common::ConfigError(file, "", "expected a JSON object");
+  if (!config.contains("model") || !config["model"].is_string())
+    throw common::ConfigError(file, "/model", "missing the model name (one of: gns)");
+  const std::string name = config["model"].get<std::string>();
+  if (name == "gns") {
+    GnsConfig c;
+    common::JsonReader::read_struct(config, file, "", c);
+    return std::make_shared<GnsModel>(c);
+  }
+  throw common::ConfigError(file, "/model", "unknown model \"" + name + "\" (known: gns)");
+}
+
+}  // namespace gnn

@@ -1,0 +1,102 @@
+#pragma once
+// GNS (Sanchez-Gonzalez et al. 2020, "Learning to Simulate Complex Physics with Graph
+// Networks"), as MODELS.md specifies it: encode-process-decode with MLPs of `mlp_hidden_layers`
+// hidden layers (ReLU) and LayerNorm on encoders and processor, `layers` interaction-network
+// steps with separate weights and residuals on nodes and edges, sum aggregation to receivers,
+// and a decoder to 3 outputs without LayerNorm.
+//
+// CPU hot path: the edge MLP's first layer on [e_ij, v_i, v_j] (3 x latent wide) is split into
+// W_e e_ij + (W_r V)[receiver] + (W_s V)[sender]: the node projections cost one [n, L] x [L, 2L]
+// product and a gather instead of building and multiplying an [E, 3L] matrix (E is ~20 n).
+
+#include <vector>
+
+#include "common/param_spec.h"
+#include "gnn/graph/segment_ops.h"
+#include "gnn/models/graph_model.h"
+
+namespace gnn {
+
+struct GnsConfig {
+  std::string model = "gns";
+  int latent = 128;
+  int layers = 10;
+  int mlp_hidden_layers = 2;
+  int type_embedding = 16;
+  double radius = 0.1;
+  double noise_std = 3e-4;
+
+  template <class V>
+  void describe(V& v) {
+    using common::param;
+    v.field("model", model, param("", "model name").one_of({"gns"}).require());
+    v.field("latent", latent,
+            param("", "width of every latent vector and hidden layer").at_least(1));
+    v.field("layers", layers, param("", "message-passing steps of the processor").at_least(1));
+    v.field("mlp_hidden_layers", mlp_hidden_layers,
+            param("", "hidden layers of every MLP").at_least(1));
+    v.field("type_embedding", type_embedding,
+            param("", "size of the learned node-type embedding").at_least(1));
+    v.field("radius", radius, param("m", "connectivity radius of the graph").positive());
+    v.field(
+        "noise_std", noise_std,
+        param("m/frame", "std of the random-walk noise on the last input velocity").non_negative());
+  }
+};
+
+// A stack of Linear layers with ReLU between them and optional LayerNorm at the end.
+class MlpImpl : public torch::nn::Module {
+ public:
+  MlpImpl(int64_t in, int64_t hidden, int64_t out, int hidden_layers, bool layer_norm);
+  torch::Tensor forward(torch::Tensor x);
+  // The rest of the MLP after its first Linear has been applied (pre-activation input).
+  torch::Tensor forward_after_first(torch::Tensor first_pre_activation);
+  torch::nn::Linear first() { return layers_[0]; }
+  torch::nn::Linear linear(size_t k) { return layers_[k]; }
+  size_t linears() const { return layers_.size(); }
+  torch::nn::LayerNorm norm() { return norm_; }
+
+ private:
+  std::vector<torch::nn::Linear> layers_;
+  torch::nn::LayerNorm norm_{nullptr};
+};
+TORCH_MODULE(Mlp);
+
+class GnsModel : public GraphModel {
+ public:
+  explicit GnsModel(const GnsConfig& config);
+  torch::Tensor forward(const GraphInput& graph) override;
+  // The three stages, public so benchmarks can time the processor alone.
+  struct Latents {
+    torch::Tensor nodes, edges;
+  };
+  Latents encode(const GraphInput& graph);
+  Latents process(Latents latents, const GraphInput& graph);
+  torch::Tensor decode(const Latents& latents);
+  // Multiply-add FLOPs (2 per multiply-add) of the processor's matrix products for a graph.
+  double processor_flops(int64_t nodes, int64_t edges) const;
+  std::string name() const override { return "gns"; }
+  double radius() const override { return config_.radius; }
+  double noise_std() const override { return config_.noise_std; }
+  nlohmann::json config() const override;
+  const GnsConfig& gns_config() const { return config_; }
+
+ private:
+  // Inference helpers (no autograd, BLAS single-threaded by the caller): x W^T in row chunks
+  // side by side; the node MLP of step k with its residual, in place on v.
+  torch::Tensor rows_times_transposed(const torch::Tensor& x, const torch::Tensor& w);
+  void node_update_in_chunks(size_t k, torch::Tensor& v, const torch::Tensor& aggregated);
+  // The edge MLP of step k over chunks of edges, without autograd.
+  torch::Tensor edge_update_in_chunks(size_t k, const torch::Tensor& e,
+                                      const torch::Tensor& projected, const EdgeOrder& order);
+  GnsConfig config_;
+  torch::nn::Embedding type_embedding_{nullptr};
+  Mlp node_encoder_{nullptr}, edge_encoder_{nullptr}, decoder_{nullptr};
+  // Per processor step: the edge MLP (its first Linear applied to e_ij only) with the receiver
+  // and sender projections of its first layer, and the node MLP likewise split into v_i and the
+  // aggregated messages.
+  std::vector<Mlp> edge_mlp_, node_mlp_;
+  std::vector<torch::nn::Linear> receiver_sender_, aggregate_;
+};
+
+}  // namespace gnn

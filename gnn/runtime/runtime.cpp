@@ -1,0 +1,60 @@
+#include "gnn/runtime/runtime.h"
+
+#include <dlfcn.h>
+#include <malloc.h>
+#include <omp.h>
+#include <sys/resource.h>
+#include <torch/torch.h>
+#include <limits>
+
+namespace gnn {
+
+void configure_runtime(const RuntimeSettings& settings) {
+  // Every block from the heap, never from mmap (glibc caps M_MMAP_THRESHOLD at 32 MiB, smaller
+  // than one edge tensor), and freed memory kept for the next step instead of trimmed: otherwise
+  // each step page-faults and zeroes its tensors afresh (measured: 7 % of a forward in the
+  // kernel's clear_page).
+  mallopt(M_MMAP_MAX, 0);
+  mallopt(M_TRIM_THRESHOLD, std::numeric_limits<int>::max());
+  mallopt(M_TOP_PAD, 64 << 20);
+  const int threads = settings.threads > 0 ? settings.threads : 1;
+  torch::set_num_threads(threads);
+  omp_set_num_threads(threads);
+  // Looked up at run time: the BLAS behind LibTorch is chosen by Debian's alternatives and may
+  // not be OpenBLAS at all.
+  using SetThreads = void (*)(int);
+  if (auto set_blas = reinterpret_cast<SetThreads>(dlsym(RTLD_DEFAULT, "openblas_set_num_threads")))
+    set_blas(settings.blas_threads > 0 ? settings.blas_threads : threads);
+}
+
+namespace {
+using SetThreads = void (*)(int);
+using GetThreads = int (*)();
+SetThreads blas_setter() {
+  return reinterpret_cast<SetThreads>(dlsym(RTLD_DEFAULT, "openblas_set_num_threads"));
+}
+GetThreads blas_getter() {
+  return reinterpret_cast<GetThreads>(dlsym(RTLD_DEFAULT, "openblas_get_num_threads"));
+}
+}  // namespace
+
+SingleThreadedBlas::SingleThreadedBlas() {
+  auto get = blas_getter();
+  auto set = blas_setter();
+  if (!get || !set) return;
+  previous_ = get();
+  if (previous_ != 1) set(1);
+}
+
+SingleThreadedBlas::~SingleThreadedBlas() {
+  if (previous_ > 1)
+    if (auto set = blas_setter()) set(previous_);
+}
+
+double peak_memory_mib() {
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  return double(usage.ru_maxrss) / 1024.0;  // Linux reports KiB
+}
+
+}  // namespace gnn

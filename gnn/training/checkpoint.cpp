@@ -1,0 +1,185 @@
+#include "gnn/training/checkpoint.h"
+
+#include <cmath>
+#include <filesystem>
+
+namespace gnn {
+namespace {
+
+constexpr const char* kFormat = "spill-gnn-checkpoint-1";
+
+torch::Tensor text_tensor(const std::string& s) {
+  return torch::from_blob(const_cast<char*>(s.data()), {int64_t(s.size())}, torch::kUInt8).clone();
+}
+
+std::string tensor_text(const torch::Tensor& t) {
+  auto c = t.contiguous();
+  return std::string(reinterpret_cast<const char*>(c.data_ptr<uint8_t>()), size_t(c.numel()));
+}
+
+// Archive keys may not contain dots.
+std::string archive_key(std::string name) {
+  for (auto& c : name)
+    if (c == '.') c = '/';
+  return "param:" + name;
+}
+
+std::string read_text(torch::serialize::InputArchive& archive, const std::string& key,
+                      const std::string& path) {
+  torch::Tensor t;
+  if (!archive.try_read(key, t))
+    throw CheckpointError(path + ": not a checkpoint of ours (no \"" + key + "\" entry)");
+  return tensor_text(t);
+}
+
+}  // namespace
+
+nlohmann::json describe_data(const DatasetMetadata& m) {
+  return {{"dim", m.dim},
+          {"particle_radius", m.particle_radius},
+          {"connectivity_radius", m.connectivity_radius},
+          {"frame_dt", m.frame_dt},
+          {"bounds", m.bounds},
+          {"particle_types", m.raw.value("particle_types", nlohmann::json::object())}};
+}
+
+void save_checkpoint(const std::string& path, LearnedSimulator& simulator,
+                     const nlohmann::json& data, const TrainingState& state,
+                     torch::optim::Optimizer* optimizer) {
+  torch::serialize::OutputArchive archive;
+  archive.write("format", text_tensor(kFormat));
+  archive.write("model_name", text_tensor(simulator.model().name()));
+  archive.write("model_config", text_tensor(simulator.model().config().dump()));
+  archive.write("training_config", text_tensor(state.training_config.dump()));
+  archive.write("data", text_tensor(data.dump()));
+  const Normalisation& n = simulator.normalisation();
+  archive.write("vel_mean", n.vel_mean);
+  archive.write("vel_std", n.vel_std);
+  archive.write("acc_mean", n.acc_mean);
+  archive.write("acc_std", n.acc_std);
+  archive.write("step", torch::tensor(state.step, torch::kInt64));
+  archive.write("elapsed_s", torch::tensor(state.elapsed_s, torch::kFloat64));
+  archive.write("sampler_state", text_tensor(state.sampler_state));
+  if (state.noise_generator_state.defined())
+    archive.write("noise_generator_state", state.noise_generator_state);
+  for (const auto& p : simulator.model().named_parameters())
+    archive.write(archive_key(p.key()), p.value().detach());
+  for (const auto& b : simulator.model().named_buffers())
+    archive.write(archive_key(b.key()), b.value(), /*is_buffer=*/true);
+  if (optimizer) {
+    torch::serialize::OutputArchive optimizer_archive;
+    optimizer->save(optimizer_archive);
+    archive.write("optimizer", optimizer_archive);
+  }
+  const std::string tmp = path + ".tmp";
+  try {
+    archive.save_to(tmp);
+  } catch (const c10::Error& e) {
+    std::filesystem::remove(tmp);
+    throw CheckpointError(path + ": cannot write the checkpoint: " + e.what_without_backtrace());
+  }
+  std::filesystem::rename(tmp, path);
+}
+
+LoadedCheckpoint load_checkpoint(const std::string& path,
+                                 const std::optional<std::string>& expected_model) {
+  if (!std::filesystem::exists(path)) throw CheckpointError(path + ": no such checkpoint file");
+  torch::serialize::InputArchive archive;
+  try {
+    archive.load_from(path);
+  } catch (const c10::Error& e) {
+    throw CheckpointError(
+        path + ": not a LibTorch checkpoint (or damaged): " + e.what_without_backtrace());
+  }
+  if (read_text(archive, "format", path) != kFormat)
+    throw CheckpointError(path + ": a checkpoint of another format version");
+  const std::string name = read_text(archive, "model_name", path);
+  if (expected_model && *expected_model != name)
+    throw CheckpointError(path + ": a checkpoint of model \"" + name + "\", expected \"" +
+                          *expected_model + "\"");
+  LoadedCheckpoint out;
+  nlohmann::json model_config, data;
+  try {
+    model_config = nlohmann::json::parse(read_text(archive, "model_config", path));
+    out.data = nlohmann::json::parse(read_text(archive, "data", path));
+    out.state.training_config = nlohmann::json::parse(read_text(archive, "training_config", path));
+  } catch (const nlohmann::json::exception& e) {
+    throw CheckpointError(path + ": damaged configuration entries: " + e.what());
+  }
+  std::shared_ptr<GraphModel> model;
+  try {
+    model = make_model(model_config, path + " (stored model config)");
+  } catch (const std::exception& e) {
+    throw CheckpointError(e.what());
+  }
+  {
+    torch::NoGradGuard no_grad;
+    auto restore = [&](const std::string& name, torch::Tensor& target, bool is_buffer) {
+      torch::Tensor stored;
+      if (!archive.try_read(archive_key(name), stored, is_buffer))
+        throw CheckpointError(path + ": has no weights for \"" + name + "\" of model \"" +
+                              model->name() + "\" (a checkpoint of another model?)");
+      if (stored.sizes() != target.sizes())
+        throw CheckpointError(path + ": weights \"" + name + "\" have shape " +
+                              c10::str(stored.sizes()) + ", the model expects " +
+                              c10::str(target.sizes()));
+      target.copy_(stored);
+    };
+    for (auto& p : model->named_parameters()) restore(p.key(), p.value(), false);
+    for (auto& b : model->named_buffers()) restore(b.key(), b.value(), true);
+  }
+  Normalisation n;
+  for (auto [key, tensor] : {std::pair<const char*, torch::Tensor*>{"vel_mean", &n.vel_mean},
+                             {"vel_std", &n.vel_std},
+                             {"acc_mean", &n.acc_mean},
+                             {"acc_std", &n.acc_std}})
+    if (!archive.try_read(key, *tensor))
+      throw CheckpointError(path + ": missing the normalisation statistic \"" + key + "\"");
+  Bounds bounds{};
+  try {
+    bounds = out.data.at("bounds").get<Bounds>();
+  } catch (const nlohmann::json::exception&) {
+    throw CheckpointError(path + ": the data description has no valid bounds");
+  }
+  out.simulator = std::make_unique<LearnedSimulator>(model, n, bounds);
+  torch::Tensor step, elapsed, sampler;
+  if (archive.try_read("step", step)) out.state.step = step.item<int64_t>();
+  if (archive.try_read("elapsed_s", elapsed)) out.state.elapsed_s = elapsed.item<double>();
+  if (archive.try_read("sampler_state", sampler)) out.state.sampler_state = tensor_text(sampler);
+  torch::Tensor generator;
+  if (archive.try_read("noise_generator_state", generator))
+    out.state.noise_generator_state = generator;
+  return out;
+}
+
+void load_optimizer_state(const std::string& path, torch::optim::Optimizer& optimizer) {
+  torch::serialize::InputArchive archive;
+  archive.load_from(path);
+  torch::serialize::InputArchive optimizer_archive;
+  if (!archive.try_read("optimizer", optimizer_archive))
+    throw CheckpointError(path + ": holds no optimiser state to resume from");
+  optimizer.load(optimizer_archive);
+}
+
+void check_data_fits(const nlohmann::json& d, const DatasetMetadata& m, const std::string& path) {
+  auto mismatch = [&](const std::string& what, const std::string& trained,
+                      const std::string& given) {
+    throw CheckpointError(path + ": trained on data with " + what + " " + trained + ", but " +
+                          m.file + " has " + given);
+  };
+  if (d.value("dim", 0) != m.dim)
+    mismatch("dim", std::to_string(d.value("dim", 0)), std::to_string(m.dim));
+  auto differs = [](double a, double b) { return std::abs(a - b) > 1e-6 * std::abs(b); };
+  if (differs(d.value("particle_radius", 0.0), m.particle_radius))
+    mismatch("particle_radius", std::to_string(d.value("particle_radius", 0.0)),
+             std::to_string(m.particle_radius));
+  if (differs(d.value("connectivity_radius", 0.0), m.connectivity_radius))
+    mismatch("default_connectivity_radius", std::to_string(d.value("connectivity_radius", 0.0)),
+             std::to_string(m.connectivity_radius));
+  const auto types = m.raw.value("particle_types", nlohmann::json::object());
+  if (d.value("particle_types", nlohmann::json::object()) != types)
+    mismatch("particle_types", d.value("particle_types", nlohmann::json::object()).dump(),
+             types.dump());
+}
+
+}  // namespace gnn

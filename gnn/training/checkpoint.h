@@ -1,0 +1,60 @@
+#pragma once
+// Checkpoints: one `*.pt` file (a LibTorch archive) with the model's parameters, the optimiser
+// state, the training step and elapsed time, the state of both random generators (sampling and
+// noise), the normalisation statistics, the resolved model and training configs, and a
+// description of the data it was trained on (dimension, particle radius, connectivity radius,
+// bounds, particle types). Written to a temporary file and renamed, so a crash never leaves a
+// half checkpoint. A model is always rebuilt from the config stored with its weights.
+
+#include <torch/torch.h>
+
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <stdexcept>
+#include <string>
+
+#include "gnn/data/dataset.h"
+#include "gnn/models/graph_model.h"
+#include "gnn/models/learned_simulator.h"
+
+namespace gnn {
+
+class CheckpointError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+struct TrainingState {
+  int64_t step = 0;
+  double elapsed_s = 0;
+  std::string sampler_state;            // std::mt19937_64 in text form
+  torch::Tensor noise_generator_state;  // at::Generator::get_state()
+  nlohmann::json training_config;
+};
+
+// What a checkpoint says about the data it was trained on.
+nlohmann::json describe_data(const DatasetMetadata& metadata);
+
+void save_checkpoint(const std::string& path, LearnedSimulator& simulator,
+                     const nlohmann::json& data, const TrainingState& state,
+                     torch::optim::Optimizer* optimizer);
+
+struct LoadedCheckpoint {
+  std::unique_ptr<LearnedSimulator> simulator;
+  nlohmann::json data;
+  TrainingState state;
+};
+
+// Loads the model (rebuilt from its stored config); with `optimizer` also its state.
+// `expected_model`, when given, must match the stored model name. Errors name the file.
+LoadedCheckpoint load_checkpoint(const std::string& path,
+                                 const std::optional<std::string>& expected_model = std::nullopt);
+void load_optimizer_state(const std::string& path, torch::optim::Optimizer& optimizer);
+
+// Throws CheckpointError when the data does not fit the checkpoint (dimension, particle types,
+// particle radius or connectivity radius differ).
+void check_data_fits(const nlohmann::json& checkpoint_data, const DatasetMetadata& metadata,
+                     const std::string& checkpoint_path);
+
+}  // namespace gnn

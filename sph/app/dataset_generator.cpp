@@ -1,0 +1,363 @@
+#include "sph/app/dataset_generator.h"
+#include "sph/core/simulation_error.h"
+
+#include <hdf5.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdlib>
+#include <fstream>
+#include <iostream>
+#include <random>
+#include <sstream>
+#include <stdexcept>
+
+#include "common/progress.h"
+#include "common/stopwatch.h"
+#include "sph/app/scene_runner.h"
+#include "sph/core/config.h"
+#include "sph/core/scene.h"
+#include "sph/core/simulation.h"
+#include "sph/io/trajectory_writer.h"
+
+namespace sph {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+constexpr const char* kSplitNames[3] = {"train", "valid", "test"};
+
+std::string group_name(int index) {
+  std::ostringstream s;
+  s.width(5);
+  s.fill('0');
+  s << index;
+  return s.str();
+}
+
+// Running first and second moments of 3-vectors, for the normalisation statistics.
+struct Moments {
+  double count = 0;
+  std::array<double, 3> sum{}, sum_sq{};
+  void add(const Vec3d& v) {
+    count += 1;
+    for (int k = 0; k < 3; ++k) sum[size_t(k)] += v[k], sum_sq[size_t(k)] += v[k] * v[k];
+  }
+  void add(const Moments& m) {
+    count += m.count;
+    for (size_t k = 0; k < 3; ++k) sum[k] += m.sum[k], sum_sq[k] += m.sum_sq[k];
+  }
+  nlohmann::json to_json() const { return {{"count", count}, {"sum", sum}, {"sum_sq", sum_sq}}; }
+  static Moments from_json(const nlohmann::json& j) {
+    Moments m;
+    m.count = j.at("count");
+    m.sum = j.at("sum");
+    m.sum_sq = j.at("sum_sq");
+    return m;
+  }
+  std::vector<double> mean() const {
+    std::vector<double> out(3, 0);
+    for (size_t k = 0; k < 3; ++k) out[k] = count > 0 ? sum[k] / count : 0;
+    return out;
+  }
+  std::vector<double> std_dev() const {
+    std::vector<double> out(3, 0), m = mean();
+    for (size_t k = 0; k < 3; ++k)
+      out[k] = count > 0 ? std::sqrt(std::max(0.0, sum_sq[k] / count - m[k] * m[k])) : 0;
+    return out;
+  }
+};
+
+void write_json_atomically(const fs::path& file, const nlohmann::json& j) {
+  const fs::path tmp = file.string() + ".tmp";
+  {
+    std::ofstream out(tmp);
+    out << j.dump(2) << "\n";
+    if (!out) throw SimulationError(tmp.string() + ": write failed");
+  }
+  fs::rename(tmp, file);
+}
+
+// A uniform number in [0, 1) from the generator's bits (the same on every platform).
+double unit(std::mt19937_64& rng) {
+  return double(rng() >> 11) * 0x1.0p-53;
+}
+
+std::string number_text(double v) {
+  std::ostringstream s;
+  s.precision(17);
+  s << v;
+  return s.str();
+}
+
+struct Part {
+  nlohmann::json info;  // index, split, parameters, particles, frames, moments
+  fs::path h5;
+};
+
+// Simulates trajectory `index` and writes its part files; returns the part's JSON.
+nlohmann::json simulate_part(const GenerateOptions& options, const LoadedScene& scene, int index,
+                             int split, const nlohmann::json& parameters, const fs::path& h5,
+                             int total_trajectories) {
+  const SceneConfig& c = scene.config;
+  Simulation sim(c);
+  const double frame_dt = shortest_decimal(c.output.frame_dt);
+  const int scene_frames = int(std::llround(double(c.end_time) / frame_dt));
+  double warm_up = options.warm_up;
+  if (warm_up < 0) {
+    warm_up = 0;
+    for (size_t k = 0; k < c.leaks.size(); ++k)
+      warm_up = k == 0 ? double(c.leaks[k].start) : std::min(warm_up, double(c.leaks[k].start));
+  }
+  const int first = int(std::llround(warm_up / frame_dt));
+  const int last = options.frames > 0 ? first + options.frames - 1 : scene_frames;
+  if (first >= scene_frames || last > scene_frames)
+    throw ConfigError(scene.file, "/end_time",
+                      "the scene ends at " + std::to_string(c.end_time) + " s; a warm-up of " +
+                          std::to_string(warm_up) + " s and " + std::to_string(last - first) +
+                          " frames need " + std::to_string(double(last) * frame_dt) + " s");
+
+  std::vector<std::int32_t> types(sim.fluid().size());
+  for (Index i = 0; i < sim.fluid().size(); ++i)
+    types[sim.fluid().id[i]] = std::int32_t(sim.fluid().type[i]);
+  const fs::path tmp = h5.string() + ".tmp";
+  TrajectoryWriter writer(tmp.string(), "00000", types, sim.boundary().position);
+
+  common::ProgressReporter progress(options.log ? *options.log : std::cerr, false, last,
+                                    "trajectory " + std::to_string(index + 1) + "/" +
+                                        std::to_string(total_trajectories) + " (" +
+                                        kSplitNames[split] + ")");
+  Moments velocity, acceleration;
+  // Positions and activity of the last two recorded frames, in identity order: velocity
+  // x_t - x_(t-1) and acceleration x_(t+1) - 2 x_t + x_(t-1), in frame units, over particles
+  // active in all the frames involved.
+  std::vector<Vec3> before, previous;
+  std::vector<std::uint8_t> active_before, active_previous;
+  auto record = [&]() {
+    const FluidParticles& f = sim.fluid();
+    std::vector<std::uint8_t> active(f.size(), 0);
+    for (Index i = 0; i < f.active_count(); ++i) active[f.id[i]] = 1;
+    std::vector<Vec3> position = sim.in_id_order(f.position);
+    writer.append(sim.time(), position, sim.in_id_order(f.velocity), active,
+                  sim.in_id_order(f.oil_fraction));
+    for (size_t i = 0; i < position.size(); ++i) {
+      if (!previous.empty() && active[i] && active_previous[i])
+        velocity.add((position[i] - previous[i]).cast<double>());
+      if (!before.empty() && active[i] && active_previous[i] && active_before[i])
+        acceleration.add((position[i] - 2 * previous[i] + before[i]).cast<double>());
+    }
+    before = std::move(previous);
+    active_before = std::move(active_previous);
+    previous = std::move(position);
+    active_previous = std::move(active);
+  };
+  // Wall time of simulating the recorded frames (not the warm-up): what a learned simulator
+  // that rolls the same frames forward is compared against.
+  double recorded_wall_s = 0;
+  for (int frame = 1; frame <= last; ++frame) {
+    if (frame - 1 == first) record();  // the state at the first recorded frame
+    if (options.stop && options.stop->load())
+      throw RunInterrupted("interrupted in trajectory " + std::to_string(index) +
+                           "; finished trajectories are kept in " +
+                           (options.out_dir / "parts").string());
+    const auto frame_start = std::chrono::steady_clock::now();
+    sim.advance_to(double(frame) * frame_dt, frame);
+    if (frame > first) recorded_wall_s += common::seconds_since(frame_start);
+    if (frame > first) record();
+    if (options.log) {
+      std::ostringstream t;
+      t.precision(3);
+      t << std::fixed << "t=" << sim.time() << "s";
+      progress.update(frame, t.str());
+    }
+  }
+  writer.close();
+  fs::rename(tmp, h5);
+  if (options.log) progress.finish(std::to_string(sim.steps()) + " steps");
+  return {{"index", index},
+          {"split", kSplitNames[split]},
+          {"parameters", parameters},
+          {"particles", sim.fluid().size()},
+          {"frames", last - first + 1},
+          {"first_frame_time", double(first) * frame_dt},
+          {"sph_wall_s", recorded_wall_s},
+          {"sph_seconds_per_frame", last > first ? recorded_wall_s / (last - first) : 0.0},
+          {"velocity_moments", velocity.to_json()},
+          {"acceleration_moments", acceleration.to_json()}};
+}
+
+// Copies the parts of one split into `file` as groups 00000, 00001, ... (atomically).
+void assemble_split(const fs::path& file, const std::vector<const Part*>& parts) {
+  const fs::path tmp = file.string() + ".tmp";
+  const hid_t out = H5Fcreate(tmp.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+  if (out < 0) throw SimulationError(tmp.string() + ": cannot create");
+  for (size_t k = 0; k < parts.size(); ++k) {
+    const hid_t in = H5Fopen(parts[k]->h5.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+    const herr_t copied =
+        in < 0 ? -1
+               : H5Ocopy(in, "00000", out, group_name(int(k)).c_str(), H5P_DEFAULT, H5P_DEFAULT);
+    if (in >= 0) H5Fclose(in);
+    if (copied < 0) {
+      H5Fclose(out);
+      throw SimulationError(parts[k]->h5.string() + ": cannot copy the trajectory into " +
+                            file.string() + " (a damaged part: delete it to simulate it again)");
+    }
+  }
+  if (H5Fclose(out) < 0) throw SimulationError(tmp.string() + ": write failed");
+  fs::rename(tmp, file);
+}
+
+}  // namespace
+
+ParameterRange parse_parameter_range(const std::string& text) {
+  const auto eq = text.find('='), colon = text.rfind(':');
+  auto bad = [&](const std::string& why) {
+    return std::invalid_argument("--vary " + text + ": " + why +
+                                 " (expected /json/pointer=LO:HI, e.g. /flow/speed=1.2:1.8)");
+  };
+  if (text.empty() || text[0] != '/' || eq == std::string::npos || colon == std::string::npos ||
+      colon < eq)
+    throw bad("malformed");
+  ParameterRange r;
+  r.pointer = text.substr(0, eq);
+  const std::string lo = text.substr(eq + 1, colon - eq - 1), hi = text.substr(colon + 1);
+  char* end = nullptr;
+  r.lo = std::strtod(lo.c_str(), &end);
+  if (lo.empty() || *end != '\0') throw bad("LO is not a number");
+  r.hi = std::strtod(hi.c_str(), &end);
+  if (hi.empty() || *end != '\0') throw bad("HI is not a number");
+  if (!(r.lo <= r.hi)) throw bad("expected LO <= HI");
+  return r;
+}
+
+std::array<int, 3> split_counts(int total, const std::array<double, 3>& f) {
+  double sum = 0;
+  for (double x : f) {
+    if (!(x >= 0)) throw std::invalid_argument("--split fractions must be >= 0");
+    sum += x;
+  }
+  if (std::abs(sum - 1) > 1e-6) throw std::invalid_argument("--split fractions must sum to 1");
+  std::array<int, 3> n{};
+  for (size_t k = 0; k < 3; ++k) n[k] = int(std::lround(f[k] * total));
+  const size_t largest = size_t(std::max_element(f.begin(), f.end()) - f.begin());
+  n[largest] += total - (n[0] + n[1] + n[2]);
+  for (size_t k = 0; k < 3; ++k)
+    if (f[k] > 0 && n[k] == 0) {
+      const size_t donor = size_t(std::max_element(n.begin(), n.end()) - n.begin());
+      if (n[donor] <= 1)
+        throw std::invalid_argument("--trajectories " + std::to_string(total) +
+                                    " is too few for a trajectory in every non-empty split");
+      --n[donor];
+      ++n[k];
+    }
+  return n;
+}
+
+nlohmann::json generate_dataset(const GenerateOptions& o) {
+  if (o.trajectories < 1) throw std::invalid_argument("--trajectories must be at least 1");
+  if (o.frames == 1)
+    throw std::invalid_argument("--frames must be at least 2 (velocities need two frames)");
+  const std::array<int, 3> counts = split_counts(o.trajectories, o.split);
+  // Everything drawn before anything runs: resuming, or repeating with the same seed, draws the
+  // same parameters.
+  std::mt19937_64 rng(o.seed);
+  std::vector<nlohmann::json> drawn(size_t(o.trajectories));
+  for (auto& p : drawn) {
+    p = nlohmann::json::object();
+    for (const auto& r : o.vary) p[r.pointer] = r.lo + (r.hi - r.lo) * unit(rng);
+  }
+  auto scene_of = [&](int k) {
+    std::vector<std::string> overrides = o.overrides;
+    for (const auto& [pointer, value] : drawn[size_t(k)].items())
+      overrides.push_back(pointer + "=" + number_text(value.get<double>()));
+    return load_scene(o.scene_file, overrides);
+  };
+  // Check every drawn scene before the first simulation, so a bad pointer fails at once.
+  for (int k = 0; k < o.trajectories; ++k) scene_of(k);
+
+  const fs::path parts_dir = o.out_dir / "parts";
+  fs::create_directories(parts_dir);
+  std::vector<Part> parts(size_t(o.trajectories));
+  int split = 0, in_split = 0;
+  for (int k = 0; k < o.trajectories; ++k) {
+    while (in_split >= counts[size_t(split)]) ++split, in_split = 0;
+    ++in_split;
+    Part& part = parts[size_t(k)];
+    part.h5 = parts_dir / ("trajectory_" + group_name(k) + ".h5");
+    const fs::path info = parts_dir / ("trajectory_" + group_name(k) + ".json");
+    if (fs::exists(info) && fs::exists(part.h5)) {
+      std::ifstream in(info);
+      part.info = nlohmann::json::parse(in);
+      if (part.info.at("parameters") != drawn[size_t(k)] ||
+          part.info.at("split") != kSplitNames[split])
+        throw ConfigError(info.string(), "/parameters",
+                          "this folder holds another generation (other seed, ranges or split); "
+                          "use a fresh --out");
+      if (o.log) *o.log << "trajectory " << k + 1 << "/" << o.trajectories << ": done before\n";
+      continue;
+    }
+    try {
+      part.info =
+          simulate_part(o, scene_of(k), k, split, drawn[size_t(k)], part.h5, o.trajectories);
+    } catch (...) {
+      // Nothing half-written stays behind; finished trajectories do.
+      std::error_code ec;
+      fs::remove(part.h5.string() + ".tmp", ec);
+      throw;
+    }
+    write_json_atomically(info, part.info);
+    if (o.log) *o.log << "trajectories: " << k + 1 << "/" << o.trajectories << " done\n";
+  }
+
+  // Normalisation statistics over the training split (all trajectories if it is empty).
+  Moments velocity, acceleration;
+  for (const Part& p : parts)
+    if (p.info.at("split") == "train" || counts[0] == 0) {
+      velocity.add(Moments::from_json(p.info.at("velocity_moments")));
+      acceleration.add(Moments::from_json(p.info.at("acceleration_moments")));
+    }
+  nlohmann::json lengths = nlohmann::json::object(), split_counts_json = nlohmann::json::object();
+  nlohmann::json trajectories = nlohmann::json::array();
+  for (int s = 0; s < 3; ++s) {
+    std::vector<const Part*> members;
+    lengths[kSplitNames[s]] = nlohmann::json::array();
+    for (const Part& p : parts)
+      if (p.info.at("split") == kSplitNames[s]) {
+        nlohmann::json t = p.info;
+        t.erase("velocity_moments");
+        t.erase("acceleration_moments");
+        t["group"] = group_name(int(members.size()));
+        trajectories.push_back(t);
+        lengths[kSplitNames[s]].push_back(p.info.at("frames"));
+        members.push_back(&p);
+      }
+    split_counts_json[kSplitNames[s]] = members.size();
+    assemble_split(o.out_dir / (std::string(kSplitNames[s]) + ".h5"), members);
+  }
+  const LoadedScene base = scene_of(0);
+  const Simulation base_sim(base.config);
+  nlohmann::json meta = run_metadata(base_sim, base, int(parts[0].info.at("frames")) - 1);
+  meta["sequence_length"] = parts[0].info.at("frames");
+  meta["sequence_lengths"] = lengths;
+  meta["counts"] = split_counts_json;
+  meta["vel_mean"] = velocity.mean();
+  meta["vel_std"] = velocity.std_dev();
+  meta["acc_mean"] = acceleration.mean();
+  meta["acc_std"] = acceleration.std_dev();
+  meta["statistics_note"] =
+      "velocity x_t - x_(t-1) and acceleration x_(t+1) - 2 x_t + x_(t-1) per frame (m), over "
+      "fluid particles active in those frames, of the training split";
+  nlohmann::json vary = nlohmann::json::array();
+  for (const auto& r : o.vary) vary.push_back({{"pointer", r.pointer}, {"lo", r.lo}, {"hi", r.hi}});
+  meta["generation"] = {{"seed", o.seed},           {"trajectories", o.trajectories},
+                        {"split", o.split},         {"frames", o.frames},
+                        {"warm_up", o.warm_up},     {"vary", vary},
+                        {"overrides", o.overrides}, {"threads", o.threads}};
+  meta["trajectories"] = trajectories;
+  write_json_atomically(o.out_dir / "metadata.json", meta);
+  return meta;
+}
+
+}  // namespace sph

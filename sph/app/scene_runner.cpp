@@ -1,0 +1,331 @@
+#include "sph/app/scene_runner.h"
+#include "sph/core/simulation_error.h"
+
+#include "sph/io/animation.h"
+#include "sph/river/spill_metrics.h"
+
+#include <unistd.h>
+
+#include <chrono>
+#include <cmath>
+#include <fstream>
+#include <iostream>
+#include <sstream>
+
+#include "common/image_writer.h"
+#include "common/output_folder.h"
+#include "common/progress.h"
+#include "common/stopwatch.h"
+#include "sph/core/config.h"
+#include "sph/io/ply_writer.h"
+#include "sph/io/trajectory_writer.h"
+
+namespace sph {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+int frame_count(const SceneConfig& s) {
+  return int(std::llround(double(s.end_time) / shortest_decimal(s.output.frame_dt)));
+}
+
+nlohmann::json vec_json(const Vec3& v) {
+  return {double(v[0]), double(v[1]), double(v[2])};
+}
+
+void write_json(const fs::path& file, const nlohmann::json& j) {
+  std::ofstream out(file);
+  out << j.dump(2) << "\n";
+  if (!out) throw SimulationError(file.string() + ": write failed");
+}
+
+nlohmann::json frame_json(const Simulation& sim, const FrameStats& f) {
+  return {{"t", sim.time()},
+          {"steps", f.steps},
+          {"dt_min", f.dt_min},
+          {"dt_max", f.dt_max},
+          {"density_error_avg", f.density_error_avg},
+          {"density_error_max", f.density_error_max},
+          {"iterations_density", f.iterations_density},
+          {"iterations_divergence", f.iterations_divergence},
+          {"kinetic_energy", sim.kinetic_energy()}};
+}
+
+nlohmann::json summary_json(const Simulation& sim, double wall_s, double iterations_density,
+                            double iterations_divergence, int threads) {
+  const TimeSplit& t = sim.timing();
+  const double particle_steps = double(sim.steps()) * double(sim.fluid().active_count());
+  nlohmann::json summary = {{"wall_s", wall_s},
+                            {"steps", sim.steps()},
+                            {"simulated_s", sim.time()},
+                            {"fluid_particles", sim.fluid().active_count()},
+                            {"boundary_particles", sim.boundary().size()},
+                            {"particle_steps_per_s", wall_s > 0 ? particle_steps / wall_s : 0.0},
+                            {"iterations_density_avg", iterations_density},
+                            {"iterations_divergence_avg", iterations_divergence},
+                            {"threads", threads},
+                            {"time_split",
+                             {{"neighbour_search", t.neighbour_search},
+                              {"pressure_solve", t.pressure_solve},
+                              {"mixture_model", t.mixture_model},
+                              {"forces", t.forces},
+                              {"other", t.other()}}}};
+  // A river's particle budget: entered at the inflow, retired at the outflow, and of those
+  // retired, fallen off an edge of the terrain (splashes over a bank).
+  if (const RiverFlow* flow = sim.flow())
+    summary["flow"] = {
+        {"emitted", flow->emitted()}, {"retired", flow->retired()}, {"fallen", flow->fallen()}};
+  return summary;
+}
+
+std::string frame_detail(const Simulation& sim, const FrameStats& f) {
+  std::ostringstream s;
+  s.precision(3);
+  s << "t=" << sim.time() << "s steps=" << f.steps << " it=" << f.iterations_density << "/"
+    << f.iterations_divergence << " err=" << f.density_error_avg * 100 << "%";
+  return s.str();
+}
+
+PlyPoints fluid_points(const Simulation& sim) {
+  const FluidParticles& f = sim.fluid();
+  PlyPoints p;
+  for (Index i = 0; i < f.active_count(); ++i) {
+    p.position.push_back(f.position[i]);
+    p.velocity.push_back(f.velocity[i]);
+    p.type.push_back(std::int32_t(f.type[i]));
+    p.pressure.push_back(f.pressure[i]);
+    p.oil_fraction.push_back(f.oil_fraction[i]);
+  }
+  return p;
+}
+
+std::string frame_file(const char* prefix, int frame, const char* extension) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%s_%05d.%s", prefix, frame, extension);
+  return buf;
+}
+
+std::vector<common::Point> picture_points(const std::vector<Vec3>& p, Index count) {
+  std::vector<common::Point> out(count);
+  for (Index i = 0; i < count; ++i) out[i] = p[i].cast<float>();
+  return out;
+}
+
+void write_pictures(const Simulation& sim, const common::FrameRenderer& renderer,
+                    const fs::path& dir, int frame) {
+  using common::ViewAxis;
+  using common::write_png;
+  const FluidParticles& f = sim.fluid();
+  const std::vector<common::Point> fluid = picture_points(f.position, f.active_count());
+  std::vector<std::uint8_t> types;
+  for (Index i = 0; i < f.active_count(); ++i) types.push_back(f.type[i] == ParticleType::kOil);
+  write_png((dir / frame_file("side", frame, "png")).string(),
+            renderer.render(fluid, types, ViewAxis::kSide));
+  write_png((dir / frame_file("top", frame, "png")).string(),
+            renderer.render(fluid, types, ViewAxis::kTop));
+  if (sim.scene().terrain_grid)
+    write_png((dir / frame_file("river", frame, "png")).string(),
+              renderer.render(fluid, types, ViewAxis::kRiver));
+}
+
+}  // namespace
+
+nlohmann::json machine_description(int threads) {
+  std::string cpu = "unknown";
+  std::ifstream info("/proc/cpuinfo");
+  for (std::string line; std::getline(info, line);)
+    if (line.rfind("model name", 0) == 0) {
+      cpu = line.substr(line.find(':') + 2);
+      break;
+    }
+  return {{"cpu", cpu},
+          {"hardware_threads", long(sysconf(_SC_NPROCESSORS_ONLN))},
+          {"threads", threads},
+#ifdef NDEBUG
+          {"build_type", "Release"},
+#else
+          {"build_type", "Debug"},
+#endif
+          {"real", sizeof(Real) == 4 ? "float32" : "float64"}};
+}
+
+nlohmann::json run_metadata(const Simulation& sim, const LoadedScene& scene, int frames) {
+  const SceneConfig& s = scene.config;
+  const Aabb& d = sim.domain();
+  const double stride =
+      std::max(1.0, std::round(shortest_decimal(s.output.frame_dt) / double(s.time_step.dt_max)));
+  return {{"dim", 3},
+          {"frame_dt", shortest_decimal(s.output.frame_dt)},
+          {"dt", shortest_decimal(s.output.frame_dt)},
+          {"frame_stride", long(stride)},
+          {"frame_stride_note",
+           "solver steps per frame at dt_max; the adaptive step may take more, see stats.json"},
+          {"sequence_length", frames + 1},
+          {"bounds",
+           {{shortest_decimal(d.min[0]), shortest_decimal(d.max[0])},
+            {shortest_decimal(d.min[1]), shortest_decimal(d.max[1])},
+            {shortest_decimal(d.min[2]), shortest_decimal(d.max[2])}}},
+          {"particle_radius", shortest_decimal(s.particle_radius)},
+          {"support_radius", shortest_decimal(s.support_radius())},
+          {"default_connectivity_radius", shortest_decimal(s.support_radius())},
+          {"gravity", vec_json(s.gravity)},
+          {"solver", s.solver},
+          {"kernel", s.kernel},
+          {"fluid_particles", sim.fluid().size()},
+          {"boundary_particles", sim.boundary().size()},
+          {"particle_types", {{"water", 0}, {"oil", 1}, {"boundary", 2}}},
+          {"scene_file", scene.file},
+          {"scene", scene.resolved}};
+}
+
+nlohmann::json run_scene(const LoadedScene& scene, const RunOptions& options) {
+  common::OutputFolderPolicy policy;
+  policy.markers = {"metadata.json", "trajectory.h5", "stats.json"};
+  policy.replace = options.force;
+  policy.inputs = {scene.file};
+  if (!options.initial_state.empty()) policy.inputs.push_back(options.initial_state);
+  policy.log = options.log;
+  common::OutputFolder output(options.out_dir.string(), policy);
+  const fs::path& staging = output.staging();
+  if (options.ply) fs::create_directories(staging / "ply");
+  if (options.png) fs::create_directories(staging / "png");
+
+  Simulation sim(scene.config);
+  const int frames = frame_count(scene.config);
+  const double frame_dt = shortest_decimal(scene.config.output.frame_dt);
+  if (!options.initial_state.empty()) sim.load_state(options.initial_state);
+  // A continued run records from the frame its state was saved at.
+  const int first = int(std::llround(sim.time() / frame_dt));
+  if (first >= frames)
+    throw SimulationError(options.initial_state +
+                          ": the state is at t = " + std::to_string(sim.time()) +
+                          " s, the scene ends at " + std::to_string(scene.config.end_time) + " s");
+  int save_frame = -1;
+  if (options.save_state_at >= 0) {
+    save_frame = int(std::llround(options.save_state_at / frame_dt));
+    if (std::abs(double(save_frame) * frame_dt - options.save_state_at) > 1e-9 * frames ||
+        save_frame < first || save_frame > frames)
+      throw SimulationError("--save-state-at " + std::to_string(options.save_state_at) +
+                            ": expected a frame time between " +
+                            std::to_string(double(first) * frame_dt) + " and " +
+                            std::to_string(scene.config.end_time) + " s (frames every " +
+                            std::to_string(frame_dt) + " s)");
+  }
+  write_json(staging / "metadata.json", run_metadata(sim, scene, frames - first));
+
+  std::vector<std::int32_t> types(sim.fluid().size());
+  for (Index i = 0; i < sim.fluid().size(); ++i)
+    types[sim.fluid().id[i]] = std::int32_t(sim.fluid().type[i]);
+  TrajectoryWriter writer((staging / "trajectory.h5").string(), "00000", types,
+                          sim.boundary().position);
+  std::unique_ptr<common::FrameRenderer> renderer;
+  if (options.png)
+    renderer = std::make_unique<common::FrameRenderer>(
+        picture_points(sim.boundary().position, Index(sim.boundary().size())),
+        common::Bounds{sim.domain().min.cast<float>(), sim.domain().max.cast<float>()},
+        float(scene.config.particle_radius));
+  // Spill metrics for scenes with a leak over terrain, measured from the most upstream leak.
+  std::unique_ptr<SpillMetrics> spill;
+  if (!scene.config.leaks.empty() && scene.config.terrain_grid) {
+    Real leak_x = scene.config.leaks[0].x;
+    for (const auto& leak : scene.config.leaks) leak_x = std::min(leak_x, leak.x);
+    spill = std::make_unique<SpillMetrics>(
+        *scene.config.terrain_grid, scene.config.terrain->water_level, leak_x,
+        scene.config.particle_diameter(), scene.config.watch_points);
+  }
+  auto record = [&](int frame) {
+    if (spill) {
+      double released = 0;
+      for (const auto& e : sim.emitters()) released += e.oil_released();
+      spill->measure(sim.fluid(), sim.time(), released);
+    }
+    std::vector<std::uint8_t> active(sim.fluid().size(), 0);
+    for (Index i = 0; i < sim.fluid().active_count(); ++i) active[sim.fluid().id[i]] = 1;
+    const FluidParticles& f = sim.fluid();
+    writer.append(sim.time(), sim.in_id_order(f.position), sim.in_id_order(f.velocity), active,
+                  sim.in_id_order(f.oil_fraction));
+    if (options.ply)
+      write_ply((staging / "ply" / frame_file("fluid", frame, "ply")).string(), fluid_points(sim));
+    if (renderer) write_pictures(sim, *renderer, staging / "png", frame);
+  };
+  if (options.ply) {
+    PlyPoints b;
+    b.position = sim.boundary().position;
+    b.type.assign(b.position.size(), std::int32_t(ParticleType::kBoundary));
+    write_ply((staging / "ply" / "boundary.ply").string(), b);
+  }
+
+  nlohmann::json frame_list = nlohmann::json::array();
+  frame_list.push_back(frame_json(sim, FrameStats{}));
+  record(first);
+  if (save_frame == first) sim.save_state((staging / "state.h5").string());
+  common::ProgressReporter progress(options.log ? *options.log : std::cerr, options.terminal,
+                                    frames, "simulating " + scene.config.name);
+  const auto t0 = std::chrono::steady_clock::now();
+  double it_density = 0, it_divergence = 0;
+  for (int frame = first + 1; frame <= frames; ++frame) {
+    if (options.stop && options.stop->load())
+      throw RunInterrupted("interrupted at frame " + std::to_string(frame) + "; nothing written");
+    const FrameStats f = sim.advance_to(double(frame) * frame_dt, frame);
+    it_density += f.iterations_density * f.steps;
+    it_divergence += f.iterations_divergence * f.steps;
+    frame_list.push_back(frame_json(sim, f));
+    record(frame);
+    if (frame == save_frame) sim.save_state((staging / "state.h5").string());
+    if (options.log) progress.update(frame, frame_detail(sim, f));
+  }
+  const double wall_s = common::seconds_since(t0);
+  writer.close();
+  const double steps = double(std::max(1L, sim.steps()));
+  nlohmann::json summary =
+      summary_json(sim, wall_s, it_density / steps, it_divergence / steps, options.threads);
+  write_json(staging / "stats.json", {{"frames", frame_list}, {"summary", summary}});
+  if (options.png)
+    encode_animation(staging, scene.config.terrain_grid ? "river" : "side", first, 1 / frame_dt,
+                     options.log);
+  if (spill) {
+    write_json(staging / "spill.json", spill->to_json());
+    write_spill_plot((staging / "spill.svg").string(), spill->frames(),
+                     scene.config.name + ": spill metrics");
+  }
+  if (options.log) progress.finish(std::to_string(sim.steps()) + " steps");
+
+  output.commit();
+  return summary;
+}
+
+nlohmann::json benchmark_scene(const LoadedScene& scene, int threads, std::ostream* log) {
+  Simulation sim(scene.config);
+  const int frames = frame_count(scene.config);
+  common::ProgressReporter progress(log ? *log : std::cerr, false, frames,
+                                    "bench " + scene.config.name);
+  double it_density = 0, it_divergence = 0;
+  const auto t0 = std::chrono::steady_clock::now();
+  for (int frame = 1; frame <= frames; ++frame) {
+    const FrameStats f =
+        sim.advance_to(double(frame) * shortest_decimal(scene.config.output.frame_dt), frame);
+    it_density += f.iterations_density * f.steps;
+    it_divergence += f.iterations_divergence * f.steps;
+    if (log) progress.update(frame, frame_detail(sim, f));
+  }
+  const double wall_s = common::seconds_since(t0);
+  const double steps = double(std::max(1L, sim.steps()));
+  nlohmann::json j = summary_json(sim, wall_s, it_density / steps, it_divergence / steps, threads);
+  j["scene"] = scene.config.name;
+  j["solver"] = scene.config.solver;
+  j["particle_radius"] = shortest_decimal(scene.config.particle_radius);
+  if (scene.config.flow) {
+    // The MTDF-SPH paper's river runs: about 100,000 particles for 3,100 frames, projected at
+    // this run's particle-steps per second and steps per frame.
+    const double steps_per_frame = steps / double(std::max(1, frames));
+    const double rate = j["particle_steps_per_s"].get<double>();
+    j["paper_workload"] = {{"particles", 100000},
+                           {"frames", 3100},
+                           {"steps_per_frame", steps_per_frame},
+                           {"projected_s", rate > 0 ? 1e5 * steps_per_frame * 3100 / rate : 0.0}};
+  }
+  return j;
+}
+
+}  // namespace sph

@@ -1,0 +1,49 @@
+#pragma once
+// Runs a scene to its end time and writes the run folder of `spill-sim run`:
+//   trajectory.h5 (data contract), metadata.json, stats.json, ply/ and png/ (optional).
+// Everything is written into a hidden staging folder beside the target and renamed into place
+// only when the run succeeds, so a failed or interrupted run leaves no half-written output.
+
+#include <atomic>
+#include <filesystem>
+#include <nlohmann/json.hpp>
+#include <ostream>
+
+#include "sph/core/scene.h"
+#include "sph/core/simulation.h"
+#include "sph/core/simulation_error.h"
+
+namespace sph {
+
+struct RunOptions {
+  std::filesystem::path out_dir;
+  bool force = false;  // replace an existing out_dir
+  bool ply = false;    // write PLY frames
+  bool png = false;    // write side- and top-view PNG pictures of every frame
+  int threads = 1;     // recorded in stats.json (the caller sets OpenMP's thread count)
+  const std::atomic<bool>* stop = nullptr;  // set from a signal handler to interrupt
+  std::ostream* log = nullptr;              // progress; nullptr for silence
+  bool terminal = false;                    // progress as a redrawn bar
+  std::string initial_state;  // continue from this saved state (Simulation::load_state)
+  double save_state_at = -1;  // save the state at this frame time to out_dir/state.h5 (>= 0)
+};
+
+// Thrown when RunOptions::stop was set; the staging folder has been removed.
+class RunInterrupted : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+// Returns the summary that stats.json holds. Throws ConfigError / SimulationError / RunInterrupted.
+nlohmann::json run_scene(const LoadedScene& scene, const RunOptions& options);
+
+// Runs a scene without writing anything and returns performance figures (for `spill-sim bench`).
+nlohmann::json benchmark_scene(const LoadedScene& scene, int threads, std::ostream* log);
+
+// metadata.json content of a run (data-contract keys; see README).
+nlohmann::json run_metadata(const Simulation& sim, const LoadedScene& scene, int frames);
+
+// Where the machine and build are described in benchmark output.
+nlohmann::json machine_description(int threads);
+
+}  // namespace sph

@@ -1,0 +1,74 @@
+#include "sph/app/solver_comparison.h"
+
+#include <algorithm>
+#include <stdexcept>
+
+#include "sph/app/scene_runner.h"
+#include "sph/core/config.h"
+#include "sph/core/scene.h"
+
+namespace sph {
+
+namespace {
+
+double forces_entry(const nlohmann::json& run, const char* force) {
+  const auto& forces = run.at("time_split").at("forces");
+  return forces.contains(force) ? forces.at(force).get<double>() : 0.0;
+}
+
+}  // namespace
+
+nlohmann::json compare_solvers(const SolverComparison& comparison, std::ostream* log) {
+  if (comparison.solvers.size() < 2)
+    throw std::invalid_argument(
+        "--compare needs at least two solvers, comma-separated (e.g. mtdf,dfsph)");
+  if (comparison.repeat < 1) throw std::invalid_argument("--repeat must be at least 1");
+  // Load every variant before running any, so that a bad solver name fails at once.
+  std::vector<LoadedScene> scenes;
+  for (const std::string& solver : comparison.solvers) {
+    std::vector<std::string> overrides = comparison.overrides;
+    overrides.push_back("/solver=\"" + solver + "\"");
+    scenes.push_back(load_scene(comparison.scene_file, overrides));
+  }
+  std::vector<std::vector<nlohmann::json>> runs(scenes.size());
+  for (int r = 0; r < comparison.repeat; ++r)
+    for (size_t s = 0; s < scenes.size(); ++s) {
+      if (log)
+        *log << "run " << r + 1 << "/" << comparison.repeat << " of " << comparison.solvers[s]
+             << "\n";
+      runs[s].push_back(benchmark_scene(scenes[s], comparison.threads, log));
+    }
+
+  nlohmann::json walls = nlohmann::json::object(), medians = nlohmann::json::object(),
+                 mixture = nlohmann::json::object(), tension = nlohmann::json::object(),
+                 results = nlohmann::json::array();
+  std::vector<double> median_wall;
+  for (size_t s = 0; s < scenes.size(); ++s) {
+    std::vector<nlohmann::json> sorted = runs[s];
+    std::sort(sorted.begin(), sorted.end(), [](const nlohmann::json& a, const nlohmann::json& b) {
+      return a.at("wall_s").get<double>() < b.at("wall_s").get<double>();
+    });
+    // The lower median for an even count: a real run, not an average of two.
+    const nlohmann::json& median = sorted[(sorted.size() - 1) / 2];
+    const std::string& name = comparison.solvers[s];
+    walls[name] = nlohmann::json::array();
+    for (const auto& run : runs[s]) walls[name].push_back(run.at("wall_s"));
+    medians[name] = median.at("wall_s");
+    mixture[name] = median.at("time_split").at("mixture_model");
+    tension[name] = forces_entry(median, "surface_tension");
+    results.push_back(median);
+    median_wall.push_back(median.at("wall_s").get<double>());
+  }
+  return {{"scene", scenes[0].config.name},
+          {"solvers", comparison.solvers},
+          {"repeat", comparison.repeat},
+          {"wall_s", walls},
+          {"median_wall_s", medians},
+          {"ratio", median_wall[0] / median_wall[1]},
+          {"ratio_of", comparison.solvers[0] + " / " + comparison.solvers[1] + " median wall time"},
+          {"mixture_model_s", mixture},
+          {"surface_tension_s", tension},
+          {"results", results}};
+}
+
+}  // namespace sph

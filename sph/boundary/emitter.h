@@ -1,0 +1,51 @@
+#pragma once
+// Releases fluid through a disc or rectangle: every `interval` seconds one layer of particles
+// (a lattice of the particle spacing covering the outlet) is activated at the outlet plane and
+// given the outflow velocity. The particles exist from the start as inactive members of the
+// fluid set (fixed identities, so trajectories keep a constant N with an `active` mask); the
+// number of layers is the whole rate x duration rounded to full layers, spread evenly over the
+// duration, so the released volume is right to half a layer.
+
+#include <vector>
+
+#include "sph/core/particle_set.h"
+#include "sph/core/scene.h"
+
+namespace sph {
+
+class Emitter {
+ public:
+  // `volume` is a particle's rest volume, `spacing` the particle diameter. Throws
+  // std::invalid_argument when the speed is too low to carry the rate through the outlet.
+  Emitter(const EmitterConfig& config, Real spacing, Real volume, const PhaseMix& mix);
+
+  // Appends this emitter's particles, inactive, to `fluid` (call once, before the run).
+  void allocate(FluidParticles& fluid);
+  // Activates the layers due by time t. Each particle is placed where a layer released at its
+  // due time would be now (advected along the outflow), so emission does not depend on dt.
+  void emit(FluidParticles& fluid, double t);
+
+  Index capacity() const { return Index(layer_.size()) * layers_; }
+  Index emitted() const { return Index(layer_.size()) * emitted_layers_; }  // particles so far
+  Index emitted_layers() const { return emitted_layers_; }
+  // Continues from a saved state in which `layers` layers had been released.
+  void restore(Index layers) { emitted_layers_ = std::min(layers, layers_); }
+  // Oil volume released so far (m^3).
+  double oil_released() const {
+    return double(emitted()) * double(volume_) * double(mix_.oil_fraction);
+  }
+  const std::vector<Vec3>& layer() const { return layer_; }  // outlet points, world coordinates
+
+ private:
+  EmitterConfig config_;
+  Vec3 direction_;
+  Real volume_;
+  PhaseMix mix_;
+  std::vector<Vec3> layer_;
+  Index layers_ = 0;
+  Index emitted_layers_ = 0;
+  double interval_ = 0;
+  Index first_id_ = 0;
+};
+
+}  // namespace sph

@@ -1,0 +1,202 @@
+#include "sph/core/scene.h"
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <sstream>
+
+#include "sph/boundary/emitter.h"
+#include "sph/core/config.h"
+#include "sph/core/lattice.h"
+#include "sph/river/height_map_io.h"
+#include "sph/river/leak.h"
+#include "sph/river/river_generator.h"
+
+namespace sph {
+
+namespace {
+
+void check_box(const Vec3& lo, const Vec3& hi, const std::string& file, const std::string& ptr) {
+  for (int k = 0; k < 3; ++k)
+    if (!(hi[k] > lo[k]))
+      throw ConfigError(file, ptr + "/max/" + std::to_string(k),
+                        "expected max > min on every axis, got min " + std::to_string(lo[k]) +
+                            " and max " + std::to_string(hi[k]));
+}
+
+// Checks that need more than one parameter.
+void check_consistency(const SceneConfig& s, const std::string& file) {
+  if (s.time_step.dt_min > s.time_step.dt_max)
+    throw ConfigError(file, "/time_step/dt_min",
+                      "expected <= dt_max (" + std::to_string(s.time_step.dt_max) + "), got " +
+                          std::to_string(s.time_step.dt_min));
+  if (s.dfsph.min_iterations_density > s.dfsph.max_iterations)
+    throw ConfigError(file, "/dfsph/min_iterations_density", "expected <= /dfsph/max_iterations");
+  if (s.dfsph.min_iterations_divergence > s.dfsph.max_iterations)
+    throw ConfigError(file, "/dfsph/min_iterations_divergence",
+                      "expected <= /dfsph/max_iterations");
+  if (s.output.frame_dt > s.end_time)
+    throw ConfigError(file, "/output/frame_dt", "expected <= /end_time");
+  for (size_t i = 0; i < s.boxes.size(); ++i)
+    check_box(s.boxes[i].min, s.boxes[i].max, file, "/boxes/" + std::to_string(i));
+  for (size_t i = 0; i < s.fluid_blocks.size(); ++i)
+    check_box(s.fluid_blocks[i].min, s.fluid_blocks[i].max, file,
+              "/fluid_blocks/" + std::to_string(i));
+  if (s.domain) check_box(s.domain->min, s.domain->max, file, "/domain");
+  for (size_t i = 0; i < s.height_fields.size(); ++i) {
+    const auto& hf = s.height_fields[i];
+    const std::string ptr = "/height_fields/" + std::to_string(i) + "/heights";
+    if (hf.heights.size() < 2) throw ConfigError(file, ptr, "expected at least 2 rows");
+    for (size_t r = 0; r < hf.heights.size(); ++r) {
+      if (hf.heights[r].size() != hf.heights[0].size() || hf.heights[r].size() < 2)
+        throw ConfigError(file, ptr + "/" + std::to_string(r),
+                          "expected rows of equal length >= 2");
+    }
+  }
+  for (size_t i = 0; i < s.fluid_blocks.size(); ++i) {
+    const auto& f = s.fluid_blocks[i].fractions;
+    if (f && std::abs(double(f->water) + double(f->oil) - 1) > 1e-6)
+      throw ConfigError(file, "/fluid_blocks/" + std::to_string(i) + "/fractions",
+                        "expected volume fractions that sum to 1, got water " +
+                            std::to_string(f->water) + " + oil " + std::to_string(f->oil));
+  }
+  for (size_t i = 0; i < s.emitters.size(); ++i) {
+    const auto& e = s.emitters[i];
+    const std::string ptr = "/emitters/" + std::to_string(i);
+    if (!(e.stop > e.start))
+      throw ConfigError(
+          file, ptr + "/stop",
+          "expected stop > start (" + std::to_string(e.start) + "), got " + std::to_string(e.stop));
+    if (!(e.direction.norm() > 0))
+      throw ConfigError(file, ptr + "/direction", "expected a non-zero direction");
+  }
+  if (s.flow) {
+    if (!s.terrain) throw ConfigError(file, "/flow", "a river flow needs a /terrain");
+    if (!(s.flow->outflow_x > s.flow->inflow_x))
+      throw ConfigError(file, "/flow/outflow_x", "expected > /flow/inflow_x");
+  }
+  if (!s.leaks.empty() && !s.terrain)
+    throw ConfigError(file, "/leaks", "a pipeline leak needs a /terrain to lie over");
+  if (s.fluid_blocks.empty() && s.emitters.empty() && s.leaks.empty() &&
+      !(s.terrain && s.terrain->fill_water) && !s.flow)
+    throw ConfigError(file, "/fluid_blocks",
+                      "expected at least one fluid block, emitter or water-filled terrain");
+  if (s.domain) {
+    for (size_t i = 0; i < s.fluid_blocks.size(); ++i) {
+      const auto& b = s.fluid_blocks[i];
+      const Aabb d{s.domain->min, s.domain->max};
+      if (!d.contains(b.min) || !d.contains(b.max))
+        throw ConfigError(file, "/fluid_blocks/" + std::to_string(i),
+                          "fluid block lies outside /domain");
+    }
+  }
+}
+
+// The region the scene's geometry spans: /domain if given, else the bounding box of boxes,
+// height fields and fluid blocks (Simulation grows it by a support radius).
+Aabb geometry_bounds(const SceneConfig& s) {
+  if (s.domain) return Aabb{s.domain->min, s.domain->max};
+  Aabb b{Vec3::Constant(std::numeric_limits<Real>::max()),
+         Vec3::Constant(std::numeric_limits<Real>::lowest())};
+  auto grow = [&](const Vec3& p) {
+    b.min = b.min.cwiseMin(p);
+    b.max = b.max.cwiseMax(p);
+  };
+  for (const auto& box : s.boxes) grow(box.min), grow(box.max);
+  for (const auto& block : s.fluid_blocks) grow(block.min), grow(block.max);
+  if (s.terrain_grid) {
+    const Terrain& t = *s.terrain_grid;
+    grow(Vec3(t.origin_x, t.origin_y, t.min_height()));
+    grow(Vec3(t.max_x(), t.max_y(), std::max(t.max_height(), s.terrain->water_level)));
+  }
+  for (const auto& f : s.height_fields) {
+    for (const auto& row : f.heights)
+      for (Real z : row) grow(Vec3(f.origin[0], f.origin[1], z));
+    grow(Vec3(f.origin[0] + f.cell_size * Real(f.heights[0].size() - 1),
+              f.origin[1] + f.cell_size * Real(f.heights.size() - 1), f.origin[2]));
+  }
+  return b;
+}
+
+void check_emitters_inside(const SceneConfig& s, const std::string& file) {
+  const Aabb bounds = geometry_bounds(s);
+  for (size_t i = 0; i < s.emitters.size(); ++i)
+    if (!bounds.contains(s.emitters[i].centre))
+      throw ConfigError(file, "/emitters/" + std::to_string(i) + "/centre",
+                        "the emitter lies outside the domain spanned by the scene's geometry");
+}
+
+// Generates or reads the terrain's height grid. Files are found relative to the scene file.
+std::shared_ptr<const Terrain> load_terrain(const TerrainConfig& c, const std::string& file) {
+  const std::filesystem::path folder = std::filesystem::path(file).parent_path();
+  auto resolve = [&](const std::string& name) { return (folder / name).string(); };
+  if (c.source != "river" && c.file.empty())
+    throw ConfigError(file, "/terrain/file", "expected a height map file for source " + c.source);
+  Terrain t;
+  if (c.source == "river") {
+    t = generate_river(c.river);
+  } else if (c.source == "asc") {
+    t = read_esri_ascii(resolve(c.file));
+  } else {
+    if (!(c.cell_size > 0))
+      throw ConfigError(file, "/terrain/cell_size", "expected > 0 for a PNG height map");
+    if (!(c.z_max > c.z_min))
+      throw ConfigError(file, "/terrain/z_max", "expected > /terrain/z_min");
+    t = read_height_png(resolve(c.file), c.origin[0], c.origin[1], c.cell_size, c.z_min, c.z_max);
+  }
+  if (!c.water_mask.empty()) {
+    if (c.source == "river")
+      throw ConfigError(file, "/terrain/water_mask", "the generated river has its own mask");
+    read_water_mask_png(resolve(c.water_mask), t);
+  }
+  return std::make_shared<const Terrain>(std::move(t));
+}
+
+}  // namespace
+
+LoadedScene parse_scene(nlohmann::json j, const std::string& file) {
+  LoadedScene out;
+  out.file = file;
+  JsonReader::read_struct(j, file, "", out.config);
+  if (out.config.terrain) out.config.terrain_grid = load_terrain(*out.config.terrain, file);
+  check_consistency(out.config, file);
+  // A leak over dry ground or off the terrain, or an outlet whose speed cannot carry its rate,
+  // is an error naming its entry.
+  const SceneConfig& c = out.config;
+  const Real spacing = c.particle_diameter();
+  const Real volume = lattice_rest_volume(
+      c.kernel == "wendland_c2" ? KernelKind::kWendlandC2 : KernelKind::kCubicSpline,
+      c.support_radius(), spacing);
+  auto check_outlet = [&](const EmitterConfig& e, const std::string& ptr) {
+    try {
+      Emitter(e, spacing, volume, PhaseMix{});
+    } catch (const std::invalid_argument& error) {
+      throw ConfigError(file, ptr + "/speed", error.what());
+    }
+  };
+  for (size_t i = 0; i < c.emitters.size(); ++i)
+    check_outlet(c.emitters[i], "/emitters/" + std::to_string(i));
+  for (size_t i = 0; i < c.leaks.size(); ++i)
+    check_outlet(leak_emitter(c.leaks[i], *c.terrain_grid, c.terrain->water_level, file, i),
+                 "/leaks/" + std::to_string(i));
+  check_emitters_inside(out.config, file);
+  out.resolved = JsonWriter::write_struct(out.config);
+  return out;
+}
+
+LoadedScene load_scene(const std::string& file, const std::vector<std::string>& overrides) {
+  nlohmann::json j = load_json_file(file, "scene file");
+  apply_overrides(j, overrides, file);
+  return parse_scene(std::move(j), file);
+}
+
+std::string scene_reference_markdown() {
+  SceneConfig defaults;
+  DocTable table;
+  defaults.describe(table);
+  return "| key | unit | default | range | description |\n|---|---|---|---|---|\n" + table.rows();
+}
+
+}  // namespace sph

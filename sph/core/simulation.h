@@ -1,0 +1,105 @@
+#pragma once
+// A Simulation owns one scene's state: fluid and boundary particles, neighbourhood, pressure
+// solver, non-pressure forces, clock and time-step policy. Nothing global: two simulations can
+// run side by side.
+
+#include <limits>
+#include <memory>
+#include <vector>
+
+#include "sph/boundary/boundary.h"
+#include "sph/boundary/emitter.h"
+#include "sph/core/lattice.h"
+#include "sph/core/particle_set.h"
+#include "sph/core/scene.h"
+#include "sph/core/simulation_error.h"
+#include "sph/core/solver_host.h"
+#include "sph/forces/non_pressure_force.h"
+#include "sph/neighbours/neighbourhood.h"
+#include "sph/river/river_flow.h"
+#include "sph/solvers/pressure_solver.h"
+
+namespace sph {
+
+// Figures of the steps between two recorded frames.
+struct FrameStats {
+  int steps = 0;
+  double density_error_avg = 0;      // mean over the steps
+  double density_error_max = 0;      // max over the steps
+  double iterations_density = 0;     // mean per step
+  double iterations_divergence = 0;  // mean per step
+  double dt_min = 0, dt_max = 0;
+};
+
+KernelKind kernel_kind(const std::string& name);
+
+class Simulation : private SolverHost {
+ public:
+  explicit Simulation(const SceneConfig& scene);
+
+  // Steps until time() reaches t_end (the last step is shortened to end exactly there).
+  // `frame` is used in error messages. Throws SimulationError on NaN or a particle leaving the
+  // domain.
+  FrameStats advance_to(double t_end, int frame);
+
+  double time() const { return time_; }
+  long steps() const { return steps_; }
+  const SceneConfig& scene() const { return scene_; }
+  const FluidParticles& fluid() const { return fluid_; }
+  const BoundaryParticles& boundary() const { return boundary_; }
+  const Aabb& domain() const { return domain_; }
+  const TimeSplit& timing() const { return time_split_; }
+  const std::vector<Emitter>& emitters() const { return emitters_; }
+  const RiverFlow* flow() const { return flow_.get(); }  // nullptr without a `flow`
+  double kinetic_energy() const;                         // J, of the active fluid
+
+  // The state of the run (every fluid particle, time, emitters' and river flow's progress) in an
+  // HDF5 file, to continue from later, e.g. a river after its warm-up (sph/simulation_state.cpp).
+  // Solver warm starts are not saved: a continued run converges from a cold start, so it follows
+  // the uninterrupted one closely but not bit for bit. load_state() throws ConfigError naming the
+  // file and the key when the state does not fit this scene.
+  void save_state(const std::string& file) const;
+  void load_state(const std::string& file);
+
+  // A per-particle array of fluid() in identity order (index = particle id), for writers:
+  // e.g. in_id_order(fluid().position).
+  template <class T>
+  std::vector<T> in_id_order(const std::vector<T>& per_particle) const {
+    std::vector<T> out(fluid_.size());
+    for (Index i = 0; i < fluid_.size(); ++i) out[fluid_.id[i]] = per_particle[i];
+    return out;
+  }
+
+ private:
+  // SolverHost
+  FluidParticles& mutable_fluid() override { return fluid_; }
+  const ParticleNeighbourhood& neighbourhood() const override { return *neighbourhood_; }
+  void update_neighbourhood() override;
+  Real choose_time_step(Real solver_limit) override;
+  void compute_non_pressure_accelerations(Real dt) override;
+  TimeSplit& time_split() override { return time_split_; }
+
+  void check_state(int frame) const;
+  // Water at rest in the terrain's water cells, from the ground up to terrain.water_level.
+  void fill_terrain_with_water(Real volume);
+  void reorder_by_cell();
+
+  SceneConfig scene_;
+  KernelKind kernel_;
+  BoundaryParticles boundary_;
+  FluidParticles fluid_;
+  Aabb domain_;
+  std::unique_ptr<ParticleNeighbourhood> neighbourhood_;
+  std::unique_ptr<PressureSolver> solver_;
+  std::vector<std::unique_ptr<NonPressureForce>> forces_;
+  std::vector<Emitter> emitters_;
+  std::unique_ptr<RiverFlow> flow_;
+  TimeSplit time_split_;
+  Real viscous_dt_limit_ = std::numeric_limits<Real>::infinity();
+  double time_ = 0;
+  double step_end_ = 0;  // time the current advance_to() must end on
+  long steps_ = 0;
+  int current_frame_ = 0;
+};
+
+}  // namespace sph

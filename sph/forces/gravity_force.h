@@ -1,0 +1,23 @@
+#pragma once
+// Uniform gravity.
+
+#include "sph/forces/non_pressure_force.h"
+
+namespace sph {
+
+class GravityForce : public NonPressureForce {
+ public:
+  explicit GravityForce(const Vec3& g) : g_(g) {}
+  std::string name() const override { return "gravity"; }
+  void add_acceleration(FluidParticles& fluid, const BoundaryParticles&,
+                        const ParticleNeighbourhood&, Real) override {
+    const long n = long(fluid.active_count());
+#pragma omp parallel for schedule(static)
+    for (long i = 0; i < n; ++i) fluid.acceleration[size_t(i)] += g_;
+  }
+
+ private:
+  Vec3 g_;
+};
+
+}  // namespace sph

@@ -1,0 +1,37 @@
+#pragma once
+// XSPH velocity smoothing, Monaghan, "On the problem of penetration in particle methods",
+// J. Comput. Phys. 82 (1989): v_i += c sum_j (m_j / rho_ij) (v_j - v_i) W_ij with the pair's
+// mean density rho_ij (Monaghan's symmetric form, which conserves momentum), applied as the
+// acceleration that produces this change over the coming step.
+
+#include "sph/forces/non_pressure_force.h"
+
+namespace sph {
+
+class XsphForce : public NonPressureForce {
+ public:
+  explicit XsphForce(Real coefficient) : c_(coefficient) {}
+  std::string name() const override { return "xsph"; }
+  void add_acceleration(FluidParticles& fluid, const BoundaryParticles&,
+                        const ParticleNeighbourhood& nb, Real dt) override {
+    const long n = long(fluid.active_count());
+    const Real scale = c_ / dt;
+    const Vec3* v = fluid.velocity.data();
+#pragma omp parallel for schedule(dynamic, 64)
+    for (long li = 0; li < n; ++li) {
+      const Index i = Index(li);
+      Vec3 dv = Vec3::Zero();
+      nb.fluid.for_each(i, [&](Index j, Index k) {
+        const Real mean_density = fluid.pair_mean_density(i, j);
+        dv += (fluid.rest_density[j] * fluid.rest_volume[j] / mean_density * nb.fluid.value[k]) *
+              (v[j] - v[i]);
+      });
+      fluid.acceleration[i] += scale * dv;
+    }
+  }
+
+ private:
+  Real c_;
+};
+
+}  // namespace sph

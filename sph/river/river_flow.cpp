@@ -1,0 +1,130 @@
+#include "sph/river/river_flow.h"
+#include "sph/core/simulation_error.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+#include <string>
+
+#include "sph/core/config.h"
+
+namespace sph {
+
+RiverFlow::RiverFlow(const FlowConfig& config, const Terrain& terrain, Real water_level,
+                     Real spacing, Real volume, const PhaseMix& water, double frame_dt)
+    : config_(config),
+      volume_(volume),
+      water_(water),
+      cooldown_(2 * frame_dt),
+      floor_z_(terrain.min_height() - 2 * spacing) {
+  // The cross-section on the lattice the terrain fill uses: water columns spacing apart in y.
+  const Real r = Real(0.5) * spacing, x = config.inflow_x;
+  const int ny = int(std::floor((terrain.max_y() - terrain.origin_y) / spacing + Real(1e-4)));
+  for (int iy = 0; iy < ny; ++iy) {
+    const Real y = terrain.origin_y + r + Real(iy) * spacing;
+    if (!terrain.is_water(x, y)) continue;
+    for (Real z : water_column(terrain, x, y, r, water_level)) layer_.emplace_back(x, y, z);
+  }
+  if (layer_.empty())
+    throw std::invalid_argument("the inflow plane x = " + std::to_string(x) +
+                                " crosses no water below the water level");
+  interval_ = double(spacing) / double(config.speed);
+  const long reserve_layers = std::max(2L, std::lround(double(config.reserve_s) / interval_));
+  pool_.resize(size_t(reserve_layers) * layer_.size());
+}
+
+Real RiverFlow::inflow_rate() const {
+  return Real(double(volume_) * double(layer_.size()) / interval_);
+}
+
+nlohmann::json RiverFlow::state() const {
+  std::vector<Index> ids;
+  std::vector<double> free_from;
+  for (const auto& e : pool_) {
+    ids.push_back(e.id);
+    // JSON has no infinity: the initial reserve is free from the start.
+    free_from.push_back(std::isfinite(e.free_from) ? e.free_from : -1e300);
+  }
+  return {{"emitted_layers", emitted_layers_},
+          {"emitted", emitted_},
+          {"retired", retired_},
+          {"fallen", fallen_},
+          {"pool_ids", ids},
+          {"pool_free_from", free_from}};
+}
+
+void RiverFlow::restore(const nlohmann::json& s) {
+  emitted_layers_ = s.at("emitted_layers");
+  emitted_ = s.at("emitted");
+  retired_ = s.at("retired");
+  fallen_ = s.at("fallen");
+  const auto ids = s.at("pool_ids").get<std::vector<Index>>();
+  const auto free_from = s.at("pool_free_from").get<std::vector<double>>();
+  pool_.clear();
+  for (size_t k = 0; k < ids.size(); ++k) pool_.push_back({ids[k], free_from.at(k)});
+}
+
+void RiverFlow::allocate(FluidParticles& fluid) {
+  const Vec3 velocity(config_.speed, 0, 0);
+  for (size_t k = 0; k < pool_.size(); ++k) {
+    pool_[k] = {fluid.size(), -std::numeric_limits<double>::infinity()};
+    fluid.add(layer_[k % layer_.size()], velocity, volume_, water_, /*active=*/false);
+  }
+}
+
+void RiverFlow::emit(FluidParticles& fluid, double t) {
+  const Vec3 velocity(config_.speed, 0, 0);
+  while (true) {
+    // Layer k enters when layer k - 1 (or the initial fill, whose first column sits on the
+    // plane) has moved one spacing on.
+    const double due = double(emitted_layers_ + 1) * interval_;
+    if (due > t) break;
+    const Real travelled = Real(t - due) * config_.speed;
+    for (const Vec3& p : layer_) {
+      if (pool_.empty() || pool_.front().free_from > t)
+        throw SimulationError(
+            "t = " + std::to_string(t) +
+            " s: the inflow ran out of particles (the outflow returns fewer than enter); raise "
+            "flow/reserve_s (now " +
+            std::to_string(config_.reserve_s) + " s)");
+      const Index slot = fluid.find_inactive(pool_.front().id);
+      pool_.pop_front();
+      fluid.activate(slot, p + Vec3(travelled, 0, 0), velocity);
+      ++emitted_;
+    }
+    ++emitted_layers_;
+  }
+}
+
+void RiverFlow::after_step(FluidParticles& fluid, double t) {
+  const Vec3 velocity(config_.speed, 0, 0);
+  const Real inflow_end = config_.inflow_x + config_.buffer;
+  const Real outflow_start = config_.outflow_x - config_.buffer;
+  retiring_.clear();
+  for (Index i = 0; i < fluid.active_count(); ++i) {
+    const Real x = fluid.position[i].x();
+    if (x < inflow_end) fluid.velocity[i] = velocity;
+    // Held at the inflow speed downstream too, so the reach drains as fast as it fills: left
+    // free, the water accelerates into the gap the retirement leaves and the level drops for
+    // several depths upstream of the outflow.
+    if (x > outflow_start) fluid.velocity[i].x() = config_.speed;
+    // Past the outflow, or fallen below the lowest ground: water that splashed over a bank and
+    // off the edge of the terrain has left the reach too.
+    const bool fell = fluid.position[i].z() < floor_z_;
+    fallen_ += fell;
+    if (x > config_.outflow_x || fell) retiring_.push_back(i);
+  }
+  // From the highest slot down: deactivate() moves the last active particle into the freed slot,
+  // and that one has been looked at already.
+  for (auto it = retiring_.rbegin(); it != retiring_.rend(); ++it) {
+    const Index slot = *it;
+    const Index id = fluid.id[slot];
+    const bool pure_water = fluid.oil_fraction[slot] == 0;
+    fluid.deactivate(slot);
+    ++retired_;
+    if (pure_water) pool_.push_back({id, t + cooldown_});
+  }
+}
+
+}  // namespace sph

@@ -1,0 +1,67 @@
+#pragma once
+// Inflow and outflow of a river reach. Water enters through the channel's cross-section at
+// inflow_x: every spacing / speed seconds a layer of particles (the lattice of the cross-section
+// between the ground and the water level) is activated there moving at `speed` along +x, and over
+// the `buffer` downstream of the plane every particle is held at that velocity, so the inflow
+// keeps a steady profile and the reach cannot push water back through it. Particles past
+// outflow_x are retired (active = 0); over the `buffer` upstream of that plane their velocity
+// along x is held at `speed` too, so the reach drains as fast as it fills. Particles that fall
+// two spacings below the lowest ground (over a bank and off an edge of the terrain) have left
+// the reach as well and are retired the same way. Retired water particles
+// return to the inflow's pool after two frames (so a recorded trajectory never shows a particle
+// jump from the outflow to the inflow between two frames in which it is active); oil stays retired,
+// so a particle never changes phase. The pool starts with `reserve_s` seconds of inflow.
+
+#include <deque>
+#include <nlohmann/json.hpp>
+#include <vector>
+
+#include "sph/core/particle_set.h"
+#include "sph/core/scene.h"
+#include "sph/core/simulation_error.h"
+#include "sph/river/terrain.h"
+
+namespace sph {
+
+class RiverFlow {
+ public:
+  // Throws std::invalid_argument when the inflow plane has no water cells below the level.
+  RiverFlow(const FlowConfig& config, const Terrain& terrain, Real water_level, Real spacing,
+            Real volume, const PhaseMix& water, double frame_dt);
+
+  // Appends the pool's particles, inactive, to `fluid` (once, before the run).
+  void allocate(FluidParticles& fluid);
+  // Activates the inflow layers due by time t. Throws SimulationError when the pool is empty.
+  void emit(FluidParticles& fluid, double t);
+  // After a step ending at time t: holds the buffer at the inflow velocity and retires the
+  // particles past the outflow plane.
+  void after_step(FluidParticles& fluid, double t);
+
+  const std::vector<Vec3>& layer() const { return layer_; }
+  long fallen() const { return fallen_; }    // of the retired: those that left over a terrain edge
+  long emitted() const { return emitted_; }  // particles activated at the inflow so far
+  long retired() const { return retired_; }  // particles retired at the outflow so far
+  Real inflow_rate() const;                  // m^3/s
+  // Progress and reserve, for saved simulation states.
+  nlohmann::json state() const;
+  void restore(const nlohmann::json& state);
+
+ private:
+  struct PoolEntry {
+    Index id;
+    double free_from;  // time from which the particle may re-enter
+  };
+  FlowConfig config_;
+  Real volume_;
+  PhaseMix water_;
+  double cooldown_;
+  std::vector<Vec3> layer_;
+  double interval_ = 0;
+  long emitted_layers_ = 0;
+  long emitted_ = 0, retired_ = 0, fallen_ = 0;
+  Real floor_z_;  // below this a particle has left the reach over an edge of the terrain
+  std::deque<PoolEntry> pool_;
+  std::vector<Index> retiring_;
+};
+
+}  // namespace sph

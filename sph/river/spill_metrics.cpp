@@ -1,0 +1,170 @@
+#include "sph/river/spill_metrics.h"
+#include "sph/core/simulation_error.h"
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <limits>
+#include <set>
+#include <sstream>
+
+#include "sph/core/config.h"
+
+namespace sph {
+
+SpillMetrics::SpillMetrics(const Terrain& terrain, Real water_level, Real leak_x, Real cell,
+                           std::vector<WatchPointConfig> watch_points)
+    : leak_x_(leak_x), cell_(cell), x0_(terrain.origin_x), watch_points_(std::move(watch_points)) {
+  // The water's edges along the river, one bin a particle diameter long: where the wet cells
+  // of the terrain (in the mask, ground below the surface) end on either side.
+  const int bins = int(std::ceil((terrain.max_x() - x0_) / cell)) + 1;
+  const Real nan = std::numeric_limits<Real>::quiet_NaN();
+  left_edge_.assign(size_t(bins), nan);
+  right_edge_.assign(size_t(bins), nan);
+  for (int b = 0; b < bins; ++b) {
+    const Real x = x0_ + (Real(b) + Real(0.5)) * cell;
+    for (int iy = 0; iy < terrain.ny; ++iy) {
+      const Real y = terrain.origin_y + terrain.cell_size * Real(iy);
+      if (!terrain.is_water(x, y) || terrain.height_at(x, y) >= water_level) continue;
+      Real& left = left_edge_[size_t(b)];
+      Real& right = right_edge_[size_t(b)];
+      left = std::isnan(left) ? y : std::max(left, y);
+      right = std::isnan(right) ? y : std::min(right, y);
+    }
+  }
+}
+
+const SpillFrame& SpillMetrics::measure(const FluidParticles& f, double t, double oil_released) {
+  SpillFrame frame;
+  frame.t = t;
+  frame.oil_released_m3 = oil_released;
+  std::set<std::pair<long, long>> cells;
+  bool any_oil = false;
+  for (Index i = 0; i < f.active_count(); ++i) {
+    frame.oil_in_reach_m3 += double(f.oil_fraction[i]) * double(f.rest_volume[i]);
+    if (f.oil_fraction[i] < Real(0.5)) continue;
+    const Vec3& p = f.position[i];
+    cells.insert({long(std::floor(p.x() / cell_)), long(std::floor(p.y() / cell_))});
+    const double ahead = double(p.x() - leak_x_);
+    frame.front_distance_m = any_oil ? std::max(frame.front_distance_m, ahead) : ahead;
+    any_oil = true;
+    const long b = long(std::floor((p.x() - x0_) / cell_));
+    if (b >= 0 && size_t(b) < left_edge_.size() && !std::isnan(left_edge_[size_t(b)])) {
+      if (p.y() >= left_edge_[size_t(b)] - cell_) left_bins_.insert(b);
+      if (p.y() <= right_edge_[size_t(b)] + cell_) right_bins_.insert(b);
+    }
+    for (const auto& w : watch_points_) {
+      const Real dx = p.x() - w.x, dy = p.y() - w.y;
+      if (dx * dx + dy * dy <= w.radius * w.radius && !arrival_.count(w.name)) arrival_[w.name] = t;
+    }
+  }
+  frame.front_distance_m = std::max(0.0, frame.front_distance_m);
+  frame.slick_area_m2 = double(cells.size()) * double(cell_) * double(cell_);
+  frame.left_bank_m = double(left_bins_.size()) * double(cell_);
+  frame.right_bank_m = double(right_bins_.size()) * double(cell_);
+  frames_.push_back(frame);
+  return frames_.back();
+}
+
+std::optional<double> SpillMetrics::arrival(const std::string& name) const {
+  const auto it = arrival_.find(name);
+  if (it == arrival_.end()) return std::nullopt;
+  return it->second;
+}
+
+nlohmann::json SpillMetrics::to_json() const {
+  nlohmann::json frames = nlohmann::json::array();
+  for (const auto& f : frames_)
+    frames.push_back({{"t", f.t},
+                      {"slick_area_m2", f.slick_area_m2},
+                      {"front_distance_m", f.front_distance_m},
+                      {"left_bank_oiled_m", f.left_bank_m},
+                      {"right_bank_oiled_m", f.right_bank_m},
+                      {"oil_released_m3", f.oil_released_m3},
+                      {"oil_in_reach_m3", f.oil_in_reach_m3}});
+  nlohmann::json arrivals = nlohmann::json::object();
+  for (const auto& w : watch_points_) {
+    const auto a = arrival(w.name);
+    arrivals[w.name] = a ? nlohmann::json(*a) : nlohmann::json(nullptr);
+  }
+  auto first_contact = [&](double SpillFrame::*side) {
+    for (const auto& f : frames_)
+      if (f.*side > 0) return nlohmann::json(f.t);
+    return nlohmann::json(nullptr);
+  };
+  return {{"definitions",
+           {{"oil", "a particle with oil volume fraction >= 0.5"},
+            {"slick_area_m2", "top-view cells one particle diameter wide that hold oil"},
+            {"front_distance_m", "furthest oil downstream (+x) of the leak"},
+            {"left_bank_oiled_m",
+             "length along the river of the left (+y) bank that oil has come within a particle "
+             "diameter of, so far"},
+            {"right_bank_oiled_m", "the same for the right bank"},
+            {"oil_released_m3", "oil released by the leaks so far"},
+            {"oil_in_reach_m3", "oil volume in the active particles"},
+            {"arrival_s", "first frame with oil within the watch point's radius (null: never)"}}},
+          {"leak_x_m", leak_x_},
+          {"cell_m", cell_},
+          {"first_left_bank_contact_s", first_contact(&SpillFrame::left_bank_m)},
+          {"first_right_bank_contact_s", first_contact(&SpillFrame::right_bank_m)},
+          {"arrival_s", arrivals},
+          {"frames", frames}};
+}
+
+void write_spill_plot(const std::string& path, const std::vector<SpillFrame>& frames,
+                      const std::string& title) {
+  // Three panels over a shared time axis.
+  struct Series {
+    const char* label;
+    const char* colour;
+    double SpillFrame::*value;
+  };
+  struct Panel {
+    const char* title;
+    std::vector<Series> series;
+  };
+  const std::vector<Panel> panels = {
+      {"slick area (m^2)", {{"area", "#1f3a93", &SpillFrame::slick_area_m2}}},
+      {"leading edge downstream of the leak (m)",
+       {{"front", "#c0392b", &SpillFrame::front_distance_m}}},
+      {"bank oiled (m)",
+       {{"left bank", "#27ae60", &SpillFrame::left_bank_m},
+        {"right bank", "#8e44ad", &SpillFrame::right_bank_m}}}};
+  const double w = 640, panel_h = 170, left = 70, right = 20, top = 40, gap = 40;
+  const double height = top + double(panels.size()) * (panel_h + gap);
+  const double t_max = frames.empty() ? 1 : std::max(frames.back().t, 1e-9);
+  std::ostringstream svg;
+  svg << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" << w << "\" height=\"" << height
+      << "\" font-family=\"sans-serif\" font-size=\"12\">\n"
+      << "<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n"
+      << "<text x=\"" << left << "\" y=\"22\" font-size=\"15\">" << title << "</text>\n";
+  for (size_t k = 0; k < panels.size(); ++k) {
+    const double y0 = top + double(k) * (panel_h + gap) + 10, x0 = left, pw = w - left - right;
+    double v_max = 0;
+    for (const auto& s : panels[k].series)
+      for (const auto& f : frames) v_max = std::max(v_max, f.*(s.value));
+    if (v_max <= 0) v_max = 1;
+    svg << "<text x=\"" << x0 << "\" y=\"" << y0 - 4 << "\">" << panels[k].title << "</text>\n"
+        << "<rect x=\"" << x0 << "\" y=\"" << y0 << "\" width=\"" << pw << "\" height=\"" << panel_h
+        << "\" fill=\"none\" stroke=\"#999\"/>\n"
+        << "<text x=\"" << x0 - 6 << "\" y=\"" << y0 + 10 << "\" text-anchor=\"end\">" << v_max
+        << "</text>\n<text x=\"" << x0 - 6 << "\" y=\"" << y0 + panel_h
+        << "\" text-anchor=\"end\">0</text>\n<text x=\"" << x0 + pw << "\" y=\""
+        << y0 + panel_h + 14 << "\" text-anchor=\"end\">t = " << t_max << " s</text>\n";
+    double legend_x = x0 + 8;
+    for (const auto& s : panels[k].series) {
+      svg << "<polyline fill=\"none\" stroke=\"" << s.colour << "\" stroke-width=\"2\" points=\"";
+      for (const auto& f : frames)
+        svg << x0 + pw * f.t / t_max << "," << y0 + panel_h * (1 - f.*(s.value) / v_max) << " ";
+      svg << "\"/>\n<text x=\"" << legend_x << "\" y=\"" << y0 + 16 << "\" fill=\"" << s.colour
+          << "\">" << s.label << "</text>\n";
+      legend_x += 90;
+    }
+  }
+  svg << "</svg>\n";
+  std::ofstream out(path);
+  out << svg.str();
+  if (!out) throw SimulationError("cannot write " + path);
+}
+
+}  // namespace sph

@@ -1,0 +1,188 @@
+#include "sph/solvers/dfsph_solver.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+#include "common/stopwatch.h"
+
+namespace sph {
+
+namespace {
+
+// Fewer neighbours than this marks a particle near the free surface, whose density deficit is not
+// compression: the divergence solve leaves it alone (as the reference implementation does).
+constexpr Index kMinNeighboursForDivergence = 20;
+
+// Rate of change of rho/rho0 from the current velocities:
+//   sum_j V_j (v_i - v_j) . grad W_ij + v_i . sum_b V_b grad W_ib   (the boundary rests).
+inline Real density_rate(Index i, const FluidParticles& fluid, const ParticleNeighbourhood& nb) {
+  const Vec3* v = fluid.velocity.data();
+  const Vec3 vi = v[i];
+  Real rate = vi.dot(nb.boundary_gradient_sum[i]);
+  const auto& ff = nb.fluid;
+  for (Index k = ff.lists.offsets[i]; k < ff.lists.offsets[i + 1]; ++k)
+    rate += (vi - v[ff.lists.indices[k]]).dot(ff.gradient[k]);
+  return rate;
+}
+
+}  // namespace
+
+DfsphSolver::DfsphSolver(const DfsphConfig& config, Real initial_dt, Real reference_density)
+    : config_(config), last_dt_(initial_dt), reference_density_(reference_density) {}
+
+void DfsphSolver::permute(const std::vector<Index>& order) {
+  std::vector<Real> scratch;
+  permute_array(stiffness_density_, order, scratch);
+  permute_array(stiffness_divergence_, order, scratch);
+}
+
+void DfsphSolver::compute_factors(const FluidParticles& fluid, const ParticleNeighbourhood& nb) {
+  const long n = long(fluid.active_count());
+  const Real h = nb.support_radius();
+  const Real tiny = Real(1e-6) / (h * h);
+#pragma omp parallel for schedule(dynamic, 64)
+  for (long li = 0; li < n; ++li) {
+    const Index i = Index(li);
+    Vec3 grad_sum = nb.boundary_gradient_sum[i];
+    Real sum_sq = 0;
+    nb.fluid.for_each(i, [&](Index j, Index k) {
+      const Vec3& g = nb.fluid.gradient[k];
+      grad_sum += g;
+      sum_sq += density_ratio_[j] * g.squaredNorm();
+    });
+    const Real denominator = density_ratio_[i] * grad_sum.squaredNorm() + sum_sq;
+    alpha_[i] = denominator > tiny ? Real(1) / denominator : Real(0);
+  }
+}
+
+void DfsphSolver::apply_stiffness(FluidParticles& fluid, const ParticleNeighbourhood& nb,
+                                  const std::vector<Real>& s, Real dt) const {
+  const long n = long(fluid.active_count());
+  const Real inv_dt = Real(1) / dt;
+#pragma omp parallel for schedule(dynamic, 64)
+  for (long li = 0; li < n; ++li) {
+    const Index i = Index(li);
+    const Real si = s[i];
+    Vec3 dv = si * nb.boundary_gradient_sum[i];
+    const auto& ff = nb.fluid;
+    for (Index k = ff.lists.offsets[i]; k < ff.lists.offsets[i + 1]; ++k)
+      dv += (si + s[ff.lists.indices[k]]) * ff.gradient[k];
+    fluid.velocity[i] -= (inv_dt * density_ratio_[i]) * dv;
+  }
+}
+
+template <class PredictedError>
+int DfsphSolver::solve(FluidParticles& fluid, const ParticleNeighbourhood& nb, Real dt,
+                       std::vector<Real>& stiffness_total, double tolerance, int min_iterations,
+                       PredictedError predicted_error, double& error_avg, double& error_max) {
+  const long n = long(fluid.active_count());
+  error_avg = error_max = 0;
+  if (n == 0) return 0;
+  // Warm start with half of last step's stiffness (the full amount overshoots and, since only
+  // compression is corrected, an overshoot is never taken back), then iterate on what is left.
+  if (config_.warm_start) {
+    for (long i = 0; i < n; ++i) s_[size_t(i)] = Real(0.5) * stiffness_total[size_t(i)];
+    apply_stiffness(fluid, nb, s_, dt);
+    std::copy(s_.begin(), s_.begin() + n, stiffness_total.begin());
+  } else {
+    std::fill(stiffness_total.begin(), stiffness_total.begin() + n, Real(0));
+  }
+  int iterations = 0;
+  while (true) {
+    double sum = 0;
+    Real largest = 0;
+#pragma omp parallel for schedule(dynamic, 64) reduction(+ : sum) reduction(max : largest)
+    for (long li = 0; li < n; ++li) {
+      const Index i = Index(li);
+      const Real error = predicted_error(i);  // >= 0: relative compression after this step
+      s_[i] = error * alpha_[i];
+      sum += double(error);
+      largest = std::max(largest, error);
+    }
+    error_avg = sum / double(n);
+    error_max = double(largest);
+    if ((error_avg <= tolerance && iterations >= min_iterations) ||
+        iterations >= config_.max_iterations)
+      break;
+    apply_stiffness(fluid, nb, s_, dt);
+    for (long i = 0; i < n; ++i) stiffness_total[size_t(i)] += s_[size_t(i)];
+    ++iterations;
+  }
+  return iterations;
+}
+
+int DfsphSolver::solve_divergence(FluidParticles& fluid, const ParticleNeighbourhood& nb, Real dt) {
+  // The density change over one step from the current divergence, compression only, and only
+  // where a particle has a full neighbourhood.
+  auto error_of = [&](Index i) {
+    if (nb.fluid.lists.count(i) + nb.boundary.lists.count(i) < kMinNeighboursForDivergence)
+      return Real(0);
+    return dt * std::max(density_rate(i, fluid, nb), Real(0));
+  };
+  double avg = 0, max = 0;
+  return solve(fluid, nb, dt, stiffness_divergence_,
+               double(config_.divergence_error_percent) * 0.01, config_.min_iterations_divergence,
+               error_of, avg, max);
+}
+
+int DfsphSolver::solve_density(FluidParticles& fluid, const ParticleNeighbourhood& nb, Real dt,
+                               StepStats& stats) {
+  // The density the predicted velocities would lead to, compression only.
+  auto error_of = [&](Index i) {
+    return std::max(fluid.density[i] + dt * density_rate(i, fluid, nb) - Real(1), Real(0));
+  };
+  return solve(fluid, nb, dt, stiffness_density_, double(config_.density_error_percent) * 0.01,
+               config_.min_iterations_density, error_of, stats.density_error_avg,
+               stats.density_error_max);
+}
+
+void DfsphSolver::step(SolverHost& host, StepStats& stats) {
+  FluidParticles& fluid = host.mutable_fluid();
+  const size_t size = fluid.size();
+  alpha_.resize(size, 0);
+  stiffness_density_.resize(size, 0);
+  stiffness_divergence_.resize(size, 0);
+  s_.resize(size, 0);
+  density_ratio_.resize(size, 1);
+
+  host.update_neighbourhood();
+  const ParticleNeighbourhood& nb = host.neighbourhood();
+  const long n = long(fluid.active_count());
+  after_neighbour_search(host);
+
+  auto t0 = std::chrono::steady_clock::now();
+  for (long i = 0; i < n; ++i)
+    density_ratio_[size_t(i)] = reference_density_ / fluid.rest_density[size_t(i)];
+  compute_factors(fluid, nb);
+  stats.iterations_divergence =
+      config_.divergence_solver ? solve_divergence(fluid, nb, last_dt_) : 0;
+  if (!config_.divergence_solver)
+    std::fill(stiffness_divergence_.begin(), stiffness_divergence_.end(), Real(0));
+  host.time_split().pressure_solve += common::seconds_since(t0);
+
+  const Real dt = host.choose_time_step(std::numeric_limits<Real>::infinity());
+  host.compute_non_pressure_accelerations(dt);
+  after_non_pressure_forces(host, dt);
+#pragma omp parallel for schedule(dynamic, 64)
+  for (long i = 0; i < n; ++i) fluid.velocity[size_t(i)] += dt * fluid.acceleration[size_t(i)];
+
+  t0 = std::chrono::steady_clock::now();
+  stats.iterations_density = solve_density(fluid, nb, dt, stats);
+  host.time_split().pressure_solve += common::seconds_since(t0);
+
+  // Pressure for output: p = rho_ref (rho/rho0)^2 kappa with kappa = s / dt^2 of each solve.
+  const Real inv_dt2 = Real(1) / (dt * dt), inv_dt2_div = Real(1) / (last_dt_ * last_dt_);
+#pragma omp parallel for schedule(dynamic, 64)
+  for (long li = 0; li < n; ++li) {
+    const size_t i = size_t(li);
+    fluid.position[i] += dt * fluid.velocity[i];
+    const Real kappa = stiffness_density_[i] * inv_dt2 + stiffness_divergence_[i] * inv_dt2_div;
+    fluid.pressure[i] = reference_density_ * fluid.density[i] * fluid.density[i] * kappa;
+  }
+  stats.dt = dt;
+  last_dt_ = dt;
+  after_advection(host, dt);
+}
+
+}  // namespace sph

@@ -1,0 +1,31 @@
+#include "sph/solvers/mtdf_solver.h"
+
+#include "common/stopwatch.h"
+
+namespace sph {
+
+MtdfSolver::MtdfSolver(const SceneConfig& scene)
+    : DfsphSolver(scene.dfsph, scene.time_step.dt_max, scene.materials.water.density),
+      mixture_(scene.mixture, scene.materials, scene.gravity) {}
+
+void MtdfSolver::permute(const std::vector<Index>& order) {
+  DfsphSolver::permute(order);
+  mixture_.permute(order);
+}
+
+void MtdfSolver::after_neighbour_search(SolverHost& host) {
+  common::ScopedTimer timer(host.time_split().mixture_model);
+  mixture_.compute_drift(host.mutable_fluid(), host.neighbourhood());
+}
+
+void MtdfSolver::after_non_pressure_forces(SolverHost& host, Real dt) {
+  common::ScopedTimer timer(host.time_split().mixture_model);
+  mixture_.exchange_and_drift_momentum(host.mutable_fluid(), host.neighbourhood(), dt);
+}
+
+void MtdfSolver::after_advection(SolverHost& host, Real dt) {
+  common::ScopedTimer timer(host.time_split().mixture_model);
+  mixture_.transport(host.mutable_fluid(), host.neighbourhood(), dt);
+}
+
+}  // namespace sph
