@@ -21,6 +21,19 @@
 
 namespace common {
 
+// A config struct whose type the aggregating config does not know (a solver's or a force's own
+// settings, declared beside its code): the visitors read, write and document it through these.
+// TypedConfigSection (config_section.h) implements it for any struct with describe().
+class ConfigSection {
+ public:
+  virtual ~ConfigSection() = default;
+  virtual void read(const nlohmann::json& j, const std::string& file,
+                    const std::string& pointer) = 0;
+  virtual nlohmann::json write() const = 0;
+  // Markdown rows of the parameter reference, keys under `pointer`.
+  virtual std::string document(const std::string& pointer) const = 0;
+};
+
 namespace detail {
 template <class T, class V, class = void>
 struct has_describe : std::false_type {};
@@ -168,6 +181,10 @@ class JsonReader {
   void read(const nlohmann::json& j, const std::string& ptr, T& v, const ParamSpec&) const {
     read_struct(j, file_, ptr, v);
   }
+  void read(const nlohmann::json& j, const std::string& ptr, ConfigSection& v,
+            const ParamSpec&) const {
+    v.read(j, file_, ptr);
+  }
 
   const nlohmann::json& object_;
   std::string file_;
@@ -220,6 +237,7 @@ class JsonWriter {
   static nlohmann::json to_json(const T& v) {
     return write_struct(v);
   }
+  static nlohmann::json to_json(const ConfigSection& v) { return v.write(); }
 
   nlohmann::json& out_;
 };
@@ -232,7 +250,9 @@ class DocTable {
   template <class T>
   void field(const char* key, T& value, const ParamSpec& spec) {
     const std::string ptr = prefix_ + "/" + key;
-    if constexpr (detail::has_describe<T, DocTable>::value) {
+    if constexpr (std::is_base_of_v<ConfigSection, T>) {
+      rows_ += value.document(ptr);
+    } else if constexpr (detail::has_describe<T, DocTable>::value) {
       DocTable sub(ptr);
       value.describe(sub);
       rows_ += sub.rows_;

@@ -68,9 +68,9 @@ nlohmann::json summary_json(const Simulation& sim, double wall_s, double iterati
                             {"time_split",
                              {{"neighbour_search", t.neighbour_search},
                               {"pressure_solve", t.pressure_solve},
-                              {"mixture_model", t.mixture_model},
                               {"forces", t.forces},
                               {"other", t.other()}}}};
+  for (const auto& [part, seconds] : t.solver_parts) summary["time_split"][part] = seconds;
   // A river's particle budget: entered at the inflow, retired at the outflow, and of those
   // retired, fallen off an edge of the terrain (splashes over a bank).
   if (const RiverFlow* flow = sim.flow())

@@ -54,7 +54,7 @@ nlohmann::json compare_solvers(const SolverComparison& comparison, std::ostream*
     walls[name] = nlohmann::json::array();
     for (const auto& run : runs[s]) walls[name].push_back(run.at("wall_s"));
     medians[name] = median.at("wall_s");
-    mixture[name] = median.at("time_split").at("mixture_model");
+    mixture[name] = median.at("time_split").value("mixture_model", 0.0);
     tension[name] = forces_entry(median, "surface_tension");
     results.push_back(median);
     median_wall.push_back(median.at("wall_s").get<double>());

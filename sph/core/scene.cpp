@@ -10,9 +10,11 @@
 #include "sph/boundary/emitter.h"
 #include "sph/core/config.h"
 #include "sph/core/lattice.h"
+#include "sph/forces/non_pressure_force.h"
 #include "sph/river/height_map_io.h"
 #include "sph/river/leak.h"
 #include "sph/river/river_generator.h"
+#include "sph/solvers/pressure_solver.h"
 
 namespace sph {
 
@@ -32,11 +34,6 @@ void check_consistency(const SceneConfig& s, const std::string& file) {
     throw ConfigError(file, "/time_step/dt_min",
                       "expected <= dt_max (" + std::to_string(s.time_step.dt_max) + "), got " +
                           std::to_string(s.time_step.dt_min));
-  if (s.dfsph.min_iterations_density > s.dfsph.max_iterations)
-    throw ConfigError(file, "/dfsph/min_iterations_density", "expected <= /dfsph/max_iterations");
-  if (s.dfsph.min_iterations_divergence > s.dfsph.max_iterations)
-    throw ConfigError(file, "/dfsph/min_iterations_divergence",
-                      "expected <= /dfsph/max_iterations");
   if (s.output.frame_dt > s.end_time)
     throw ConfigError(file, "/output/frame_dt", "expected <= /end_time");
   for (size_t i = 0; i < s.boxes.size(); ++i)
@@ -155,6 +152,13 @@ std::shared_ptr<const Terrain> load_terrain(const TerrainConfig& c, const std::s
 }
 
 }  // namespace
+
+SceneConfig::SceneConfig() {
+  for (const auto& solver : pressure_solver_entries())
+    for (const auto& section : solver.sections) sections.add(section);
+  for (const auto& force : non_pressure_force_entries())
+    for (const auto& section : force.sections) sections.add(section);
+}
 
 LoadedScene parse_scene(nlohmann::json j, const std::string& file) {
   LoadedScene out;

@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "common/config_section.h"
 #include "sph/core/config.h"
 #include "sph/core/types.h"
 #include "sph/river/terrain.h"
@@ -29,126 +30,6 @@ struct TimeStepConfig {
                 .at_most(10));
     v.field("dt_min", dt_min, param("s", "Smallest time step").positive());
     v.field("dt_max", dt_max, param("s", "Largest time step").positive());
-  }
-};
-
-struct DfsphConfig {
-  Real density_error_percent = Real(0.05);
-  Real divergence_error_percent = Real(0.1);
-  int min_iterations_density = 2;
-  int min_iterations_divergence = 1;
-  int max_iterations = 100;
-  bool warm_start = true;
-  bool divergence_solver = true;
-  template <class V>
-  void describe(V& v) {
-    v.field("density_error_percent", density_error_percent,
-            param("%", "Stop the constant-density solve when the mean density error is below this")
-                .positive()
-                .at_most(10));
-    v.field("divergence_error_percent", divergence_error_percent,
-            param("%",
-                  "Stop the divergence-free solve when the mean density change per step is "
-                  "below this")
-                .positive()
-                .at_most(10));
-    v.field("min_iterations_density", min_iterations_density,
-            param("", "Fewest iterations of the constant-density solve").at_least(0).at_most(1000));
-    v.field("min_iterations_divergence", min_iterations_divergence,
-            param("", "Fewest iterations of the divergence-free solve").at_least(0).at_most(1000));
-    v.field("max_iterations", max_iterations,
-            param("", "Most iterations of each solve").at_least(1).at_most(10000));
-    v.field("warm_start", warm_start,
-            param("", "Start each solve from the previous step's pressure"));
-    v.field("divergence_solver", divergence_solver,
-            param("", "Run the divergence-free solve (off: constant-density solve only)"));
-  }
-};
-
-struct WcsphConfig {
-  Real stiffness_exponent = 7;
-  Real expected_max_velocity = 5;
-  Real sound_speed_factor = 10;
-  template <class V>
-  void describe(V& v) {
-    v.field("stiffness_exponent", stiffness_exponent,
-            param("", "Exponent gamma of Tait's equation").at_least(1).at_most(10));
-    v.field("expected_max_velocity", expected_max_velocity,
-            param("m/s", "Largest flow speed expected; sets the speed of sound").positive());
-    v.field("sound_speed_factor", sound_speed_factor,
-            param("",
-                  "Speed of sound = this x expected_max_velocity (10 keeps density "
-                  "fluctuations near 1 %)")
-                .at_least(1));
-  }
-};
-
-// The mixture model of MTDF-SPH (solver `mtdf`): Ren, Li, Yan, Lin, Hu, "Multiple-Fluid SPH
-// Simulation Using a Mixture Model", ACM TOG 33(5), 2014. Phases move relative to the mixture
-// with drift velocities; the volume fractions follow them.
-struct MixtureConfig {
-  Real drift_tau = Real(1e-3);
-  Real diffusion_sigma = Real(1e-4);
-  bool pressure_term = false;
-  Real trace_fraction = Real(1e-3);
-  template <class V>
-  void describe(V& v) {
-    v.field("drift_tau", drift_tau,
-            param("m^3 s/kg",
-                  "tau of the slip term: a phase drifts at tau (rho_k - rho_c) (g - Dv/Dt) "
-                  "relative to the mixture (buoyancy and inertia); larger separates faster")
-                .non_negative()
-                .at_most(1));
-    v.field("diffusion_sigma", diffusion_sigma,
-            param("m^2/s",
-                  "sigma of the diffusion term: volume fractions spread down their gradients; "
-                  "small keeps oil and water separate")
-                .non_negative()
-                .at_most(1));
-    v.field("pressure_term", pressure_term,
-            param("",
-                  "Include Ren's phase-pressure term -tau (grad p_k - sum c_k grad p_k) with "
-                  "p_k = alpha_k p; its p grad(alpha) part diffuses the phases at a rate tau p, "
-                  "which at depth mixes them, so it is off by default"));
-    v.field("trace_fraction", trace_fraction,
-            param("",
-                  "A particle holding less than this fraction of a phase hands it to the "
-                  "neighbour richest in that phase after each step (volume is conserved): "
-                  "Ren's clamp of small fractions without its loss of mass; 0 turns it off")
-                .non_negative()
-                .at_most(Real(0.1)));
-  }
-};
-
-// Modified cosine-force surface tension of MTDF-SPH: the pair force
-// s cos(3 pi r / (2 h)) W(r) along x_i - x_j (repulsive for r < h/3, attractive beyond), with a
-// strength s for like phases, unlike phases and fluid-boundary pairs (wetting).
-struct SurfaceTensionConfig {
-  Real like = 20;
-  Real unlike = -20;
-  Real boundary = 0;
-  bool surface_only = true;
-  Real surface_neighbour_fraction = Real(0.8);
-  template <class V>
-  void describe(V& v) {
-    v.field("like", like,
-            param("m/s^2", "Strength s between particles of the same phase (> 0: cohesion)"));
-    v.field("unlike", unlike,
-            param("m/s^2",
-                  "Strength s between oil and water (< 0: repulsion at the pair distance, which "
-                  "keeps the phases apart)"));
-    v.field("boundary", boundary,
-            param("m/s^2", "Strength s between fluid and boundary (> 0: wetting)"));
-    v.field("surface_only", surface_only,
-            param("",
-                  "Apply the force to free-surface and oil-water interface particles only (as "
-                  "the MTDF-SPH paper does); false: to every particle"));
-    v.field("surface_neighbour_fraction", surface_neighbour_fraction,
-            param("",
-                  "A particle with fewer neighbours than this fraction of a full neighbourhood "
-                  "is at the free surface")
-                .positive()
-                .at_most(1));
   }
 };
 
@@ -488,10 +369,9 @@ struct SceneConfig {
   MaterialsConfig materials;
   Real xsph = 0;
   BoundaryConfig boundary;
-  DfsphConfig dfsph;
-  WcsphConfig wcsph;
-  MixtureConfig mixture;
-  SurfaceTensionConfig surface_tension;
+  // The settings of every registered pressure solver and force, each declared beside its code
+  // (DfsphConfig in solvers/dfsph_solver.h, ...) under its scene key ("dfsph", "mixture", ...).
+  common::ConfigSections sections;
   OutputConfig output;
   std::vector<BoxConfig> boxes;
   std::vector<HeightFieldConfig> height_fields;
@@ -504,6 +384,15 @@ struct SceneConfig {
   std::vector<WatchPointConfig> watch_points;
   // The terrain's height grid, loaded or generated when the scene is parsed (not a parameter).
   std::shared_ptr<const Terrain> terrain_grid;
+
+  // Default settings, with a section for every registered solver and force.
+  SceneConfig();
+
+  // The settings section `key` of a solver or force, as the struct its owner declared.
+  template <class T>
+  const T& settings(const std::string& key) const {
+    return sections.get<T>(key);
+  }
 
   Real particle_diameter() const { return 2 * particle_radius; }
   Real support_radius() const { return support_factor * particle_radius; }
@@ -531,11 +420,7 @@ struct SceneConfig {
     v.field("xsph", xsph,
             param("", "XSPH velocity smoothing coefficient").non_negative().at_most(1));
     v.field("boundary", boundary, param("", "Fluid-boundary interaction"));
-    v.field("dfsph", dfsph, param("", "DFSPH solver settings"));
-    v.field("wcsph", wcsph, param("", "WCSPH solver settings"));
-    v.field("mixture", mixture, param("", "Mixture model (solver mtdf only)"));
-    v.field("surface_tension", surface_tension,
-            param("", "Cosine-force surface tension (solver mtdf only)"));
+    sections.describe(v);
     v.field("output", output, param("", "Recording"));
     v.field("boxes", boxes, param("", "Boxes sampled with boundary particles"));
     v.field("height_fields", height_fields,

@@ -14,14 +14,17 @@ namespace sph {
 
 // Wall-clock seconds spent in each part of the simulation.
 struct TimeSplit {
-  double neighbour_search = 0;           // grid, neighbour lists, pair kernels, densities
-  double pressure_solve = 0;             // the pressure solver's own work
-  double mixture_model = 0;              // drift, drift momentum and fraction transport (mtdf)
+  double neighbour_search = 0;  // grid, neighbour lists, pair kernels, densities
+  double pressure_solve = 0;    // the pressure solver's own work
+  // Parts of a solver's own step that it times by name (MTDF-SPH: "mixture_model", its drift,
+  // drift momentum and fraction transport); reported beside the parts above.
+  std::map<std::string, double> solver_parts;
   std::map<std::string, double> forces;  // each non-pressure force, by name
   double total = 0;                      // everything in step()
   // What no part above accounts for (time step choice, integration, emitters, checks).
   double other() const {
-    double rest = total - neighbour_search - pressure_solve - mixture_model;
+    double rest = total - neighbour_search - pressure_solve;
+    for (const auto& [name, seconds] : solver_parts) rest -= seconds;
     for (const auto& [name, seconds] : forces) rest -= seconds;
     return rest;
   }

@@ -8,6 +8,14 @@ namespace sph {
 class GravityForce : public NonPressureForce {
  public:
   explicit GravityForce(const Vec3& g) : g_(g) {}
+  static NonPressureForceEntry entry() {
+    return {"gravity",
+            {},
+            [](const SceneConfig&) { return true; },
+            [](const SceneConfig& scene) -> std::unique_ptr<NonPressureForce> {
+              return std::make_unique<GravityForce>(scene.gravity);
+            }};
+  }
   std::string name() const override { return "gravity"; }
   void add_acceleration(FluidParticles& fluid, const BoundaryParticles&,
                         const ParticleNeighbourhood&, Real) override {

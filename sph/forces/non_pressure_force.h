@@ -1,5 +1,6 @@
 #pragma once
-// Interface of a non-pressure force. One force per file; make_non_pressure_forces() lists them.
+// Interface of a non-pressure force. One force per file, which also declares its settings and its
+// registry entry; the registry (force_registry.cpp) lists the entries.
 
 #include <memory>
 #include <string>
@@ -22,7 +23,21 @@ class NonPressureForce {
                                 const ParticleNeighbourhood& neighbourhood, Real dt) = 0;
 };
 
-// The forces a scene asks for, in the order they are applied.
+// How a force is registered (one line in force_registry.cpp).
+struct NonPressureForceEntry {
+  std::string name;
+  // Its settings, declared beside its code, each under its scene key.
+  std::vector<common::ConfigSectionEntry> sections;
+  // Whether the scene asks for it by itself (gravity always, viscosity when a phase is viscous);
+  // a pressure solver can also ask for it by name (PressureSolverEntry::forces).
+  bool (*wanted)(const SceneConfig& scene);
+  std::unique_ptr<NonPressureForce> (*make)(const SceneConfig& scene);
+};
+
+// Every registered force, in the order forces are applied.
+std::vector<NonPressureForceEntry> non_pressure_force_entries();
+
+// The forces the scene and its pressure solver ask for, in the order they are applied.
 std::vector<std::unique_ptr<NonPressureForce>> make_non_pressure_forces(const SceneConfig& scene);
 
 }  // namespace sph

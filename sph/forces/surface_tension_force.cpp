@@ -46,6 +46,18 @@ void SurfaceTensionForce::tabulate_pair_law(KernelKind kernel, Real support_radi
   law_scale_ = Real(kLawIntervals) / (support_radius * support_radius);
 }
 
+NonPressureForceEntry SurfaceTensionForce::entry() {
+  return {"surface_tension",
+          {common::ConfigSectionEntry::of<SurfaceTensionConfig>(
+              "surface_tension", "Cosine-force surface tension (solver mtdf only)")},
+          [](const SceneConfig&) { return false; },
+          [](const SceneConfig& scene) -> std::unique_ptr<NonPressureForce> {
+            return std::make_unique<SurfaceTensionForce>(
+                scene.settings<SurfaceTensionConfig>("surface_tension"), scene.particle_diameter(),
+                scene.support_radius(), scene.materials.water.density);
+          }};
+}
+
 SurfaceTensionForce::SurfaceTensionForce(const SurfaceTensionConfig& config, Real particle_spacing,
                                          Real support_radius, Real reference_density)
     : config_(config),

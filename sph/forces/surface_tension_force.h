@@ -21,10 +21,45 @@
 
 namespace sph {
 
+// Scene key `surface_tension`. The pair force
+// s cos(3 pi r / (2 h)) W(r) along x_i - x_j (repulsive for r < h/3, attractive beyond), with a
+// strength s for like phases, unlike phases and fluid-boundary pairs (wetting).
+struct SurfaceTensionConfig {
+  Real like = 20;
+  Real unlike = -20;
+  Real boundary = 0;
+  bool surface_only = true;
+  Real surface_neighbour_fraction = Real(0.8);
+  template <class V>
+  void describe(V& v) {
+    v.field("like", like,
+            param("m/s^2", "Strength s between particles of the same phase (> 0: cohesion)"));
+    v.field("unlike", unlike,
+            param("m/s^2",
+                  "Strength s between oil and water (< 0: repulsion at the pair distance, which "
+                  "keeps the phases apart)"));
+    v.field("boundary", boundary,
+            param("m/s^2", "Strength s between fluid and boundary (> 0: wetting)"));
+    v.field("surface_only", surface_only,
+            param("",
+                  "Apply the force to free-surface and oil-water interface particles only (as "
+                  "the MTDF-SPH paper does); false: to every particle"));
+    v.field("surface_neighbour_fraction", surface_neighbour_fraction,
+            param("",
+                  "A particle with fewer neighbours than this fraction of a full neighbourhood "
+                  "is at the free surface")
+                .positive()
+                .at_most(1));
+  }
+};
+
 class SurfaceTensionForce : public NonPressureForce {
  public:
   SurfaceTensionForce(const SurfaceTensionConfig& config, Real particle_spacing,
                       Real support_radius, Real reference_density);
+  // Only on when the pressure solver asks for it (MTDF-SPH): plain DFSPH on the same scene is
+  // the comparison.
+  static NonPressureForceEntry entry();
   std::string name() const override { return "surface_tension"; }
   void add_acceleration(FluidParticles& fluid, const BoundaryParticles& boundary,
                         const ParticleNeighbourhood& neighbourhood, Real dt) override;

@@ -2,6 +2,18 @@
 
 namespace sph {
 
+NonPressureForceEntry ViscosityForce::entry() {
+  return {"viscosity",
+          {},
+          [](const SceneConfig& scene) {
+            const MaterialsConfig& m = scene.materials;
+            return m.water.viscosity > 0 || m.oil.viscosity > 0 || scene.boundary.friction > 0;
+          },
+          [](const SceneConfig& scene) -> std::unique_ptr<NonPressureForce> {
+            return std::make_unique<ViscosityForce>(scene.boundary.friction);
+          }};
+}
+
 void ViscosityForce::add_acceleration(FluidParticles& fluid, const BoundaryParticles& boundary,
                                       const ParticleNeighbourhood& nb, Real) {
   const long n = long(fluid.active_count());

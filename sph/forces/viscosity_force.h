@@ -16,6 +16,8 @@ class ViscosityForce : public NonPressureForce {
   // The fluid's viscosity is per particle (FluidParticles::viscosity); a pair uses the mean of
   // its two particles' values.
   explicit ViscosityForce(Real boundary_viscosity) : nu_boundary_(boundary_viscosity) {}
+  // On when a phase is viscous or the boundary has friction.
+  static NonPressureForceEntry entry();
   std::string name() const override { return "viscosity"; }
   void add_acceleration(FluidParticles& fluid, const BoundaryParticles& boundary,
                         const ParticleNeighbourhood& neighbourhood, Real dt) override;

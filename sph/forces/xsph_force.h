@@ -11,6 +11,15 @@ namespace sph {
 class XsphForce : public NonPressureForce {
  public:
   explicit XsphForce(Real coefficient) : c_(coefficient) {}
+  // The scene's top-level `xsph` coefficient turns it on.
+  static NonPressureForceEntry entry() {
+    return {"xsph",
+            {},
+            [](const SceneConfig& scene) { return scene.xsph > 0; },
+            [](const SceneConfig& scene) -> std::unique_ptr<NonPressureForce> {
+              return std::make_unique<XsphForce>(scene.xsph);
+            }};
+  }
   std::string name() const override { return "xsph"; }
   void add_acceleration(FluidParticles& fluid, const BoundaryParticles&,
                         const ParticleNeighbourhood& nb, Real dt) override {

@@ -28,6 +28,17 @@ inline Real density_rate(Index i, const FluidParticles& fluid, const ParticleNei
 
 }  // namespace
 
+PressureSolverEntry DfsphSolver::entry() {
+  return {"dfsph",
+          {common::ConfigSectionEntry::of<DfsphConfig>("dfsph", "DFSPH solver settings")},
+          {},
+          [](const SceneConfig& scene) -> std::unique_ptr<PressureSolver> {
+            return std::make_unique<DfsphSolver>(scene.settings<DfsphConfig>("dfsph"),
+                                                 scene.time_step.dt_max,
+                                                 scene.materials.water.density);
+          }};
+}
+
 DfsphSolver::DfsphSolver(const DfsphConfig& config, Real initial_dt, Real reference_density)
     : config_(config), last_dt_(initial_dt), reference_density_(reference_density) {}
 

@@ -28,9 +28,52 @@
 
 namespace sph {
 
+// The settings of both solves (scene key `dfsph`; MTDF-SPH reads them too).
+struct DfsphConfig {
+  Real density_error_percent = Real(0.05);
+  Real divergence_error_percent = Real(0.1);
+  int min_iterations_density = 2;
+  int min_iterations_divergence = 1;
+  int max_iterations = 100;
+  bool warm_start = true;
+  bool divergence_solver = true;
+  template <class V>
+  void describe(V& v) {
+    v.field("density_error_percent", density_error_percent,
+            param("%", "Stop the constant-density solve when the mean density error is below this")
+                .positive()
+                .at_most(10));
+    v.field("divergence_error_percent", divergence_error_percent,
+            param("%",
+                  "Stop the divergence-free solve when the mean density change per step is "
+                  "below this")
+                .positive()
+                .at_most(10));
+    v.field("min_iterations_density", min_iterations_density,
+            param("", "Fewest iterations of the constant-density solve").at_least(0).at_most(1000));
+    v.field("min_iterations_divergence", min_iterations_divergence,
+            param("", "Fewest iterations of the divergence-free solve").at_least(0).at_most(1000));
+    v.field("max_iterations", max_iterations,
+            param("", "Most iterations of each solve").at_least(1).at_most(10000));
+    v.field("warm_start", warm_start,
+            param("", "Start each solve from the previous step's pressure"));
+    v.field("divergence_solver", divergence_solver,
+            param("", "Run the divergence-free solve (off: constant-density solve only)"));
+  }
+  void check(const std::string& file, const std::string& pointer) const {
+    if (min_iterations_density > max_iterations)
+      throw ConfigError(file, pointer + "/min_iterations_density",
+                        "expected <= " + pointer + "/max_iterations");
+    if (min_iterations_divergence > max_iterations)
+      throw ConfigError(file, pointer + "/min_iterations_divergence",
+                        "expected <= " + pointer + "/max_iterations");
+  }
+};
+
 class DfsphSolver : public PressureSolver {
  public:
   DfsphSolver(const DfsphConfig& config, Real initial_dt, Real reference_density);
+  static PressureSolverEntry entry();
   std::string name() const override { return "dfsph"; }
   void step(SolverHost& host, StepStats& stats) override;
   void permute(const std::vector<Index>& order) override;

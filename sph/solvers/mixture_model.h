@@ -44,6 +44,43 @@
 
 namespace sph {
 
+// Scene key `mixture`. The mixture model of MTDF-SPH (solver `mtdf`): Ren, Li, Yan, Lin, Hu,
+// "Multiple-Fluid SPH Simulation Using a Mixture Model", ACM TOG 33(5), 2014. Phases move relative
+// to the mixture with drift velocities; the volume fractions follow them.
+struct MixtureConfig {
+  Real drift_tau = Real(1e-3);
+  Real diffusion_sigma = Real(1e-4);
+  bool pressure_term = false;
+  Real trace_fraction = Real(1e-3);
+  template <class V>
+  void describe(V& v) {
+    v.field("drift_tau", drift_tau,
+            param("m^3 s/kg",
+                  "tau of the slip term: a phase drifts at tau (rho_k - rho_c) (g - Dv/Dt) "
+                  "relative to the mixture (buoyancy and inertia); larger separates faster")
+                .non_negative()
+                .at_most(1));
+    v.field("diffusion_sigma", diffusion_sigma,
+            param("m^2/s",
+                  "sigma of the diffusion term: volume fractions spread down their gradients; "
+                  "small keeps oil and water separate")
+                .non_negative()
+                .at_most(1));
+    v.field("pressure_term", pressure_term,
+            param("",
+                  "Include Ren's phase-pressure term -tau (grad p_k - sum c_k grad p_k) with "
+                  "p_k = alpha_k p; its p grad(alpha) part diffuses the phases at a rate tau p, "
+                  "which at depth mixes them, so it is off by default"));
+    v.field("trace_fraction", trace_fraction,
+            param("",
+                  "A particle holding less than this fraction of a phase hands it to the "
+                  "neighbour richest in that phase after each step (volume is conserved): "
+                  "Ren's clamp of small fractions without its loss of mass; 0 turns it off")
+                .non_negative()
+                .at_most(Real(0.1)));
+  }
+};
+
 // A symmetric 3 x 3 tensor, sum_k alpha_k rho_k u_k u_k of one particle.
 struct DriftStress {
   // The tensor's three columns padded to four entries (the fourth stays zero), so that its

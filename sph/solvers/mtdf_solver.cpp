@@ -4,9 +4,21 @@
 
 namespace sph {
 
+PressureSolverEntry MtdfSolver::entry() {
+  return {"mtdf",
+          // It reads DFSPH's settings (registered by DFSPH) and owns the mixture model's.
+          {common::ConfigSectionEntry::of<MixtureConfig>("mixture",
+                                                         "Mixture model (solver mtdf only)")},
+          {"surface_tension"},
+          [](const SceneConfig& scene) -> std::unique_ptr<PressureSolver> {
+            return std::make_unique<MtdfSolver>(scene);
+          }};
+}
+
 MtdfSolver::MtdfSolver(const SceneConfig& scene)
-    : DfsphSolver(scene.dfsph, scene.time_step.dt_max, scene.materials.water.density),
-      mixture_(scene.mixture, scene.materials, scene.gravity) {}
+    : DfsphSolver(scene.settings<DfsphConfig>("dfsph"), scene.time_step.dt_max,
+                  scene.materials.water.density),
+      mixture_(scene.settings<MixtureConfig>("mixture"), scene.materials, scene.gravity) {}
 
 void MtdfSolver::permute(const std::vector<Index>& order) {
   DfsphSolver::permute(order);
@@ -14,17 +26,17 @@ void MtdfSolver::permute(const std::vector<Index>& order) {
 }
 
 void MtdfSolver::after_neighbour_search(SolverHost& host) {
-  common::ScopedTimer timer(host.time_split().mixture_model);
+  common::ScopedTimer timer(host.time_split().solver_parts["mixture_model"]);
   mixture_.compute_drift(host.mutable_fluid(), host.neighbourhood());
 }
 
 void MtdfSolver::after_non_pressure_forces(SolverHost& host, Real dt) {
-  common::ScopedTimer timer(host.time_split().mixture_model);
+  common::ScopedTimer timer(host.time_split().solver_parts["mixture_model"]);
   mixture_.exchange_and_drift_momentum(host.mutable_fluid(), host.neighbourhood(), dt);
 }
 
 void MtdfSolver::after_advection(SolverHost& host, Real dt) {
-  common::ScopedTimer timer(host.time_split().mixture_model);
+  common::ScopedTimer timer(host.time_split().solver_parts["mixture_model"]);
   mixture_.transport(host.mutable_fluid(), host.neighbourhood(), dt);
 }
 

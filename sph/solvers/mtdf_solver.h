@@ -1,7 +1,7 @@
 #pragma once
 // MTDF-SPH: DFSPH's divergence-free and constant-density solves with the two-phase mixture model
-// (mixture_model.h) and the cosine-force surface tension (surface_tension_force.h, added to the
-// non-pressure forces when the scene's solver is `mtdf`).
+// (mixture_model.h) and the cosine-force surface tension (surface_tension_force.h, which its
+// registry entry adds to the non-pressure forces).
 //
 // One step, in the order of the paper's Algorithms 1-3:
 //   neighbours and densities -> drift velocities of the mixture model -> factors -> divergence-free
@@ -21,7 +21,8 @@ namespace sph {
 
 class MtdfSolver : public DfsphSolver {
  public:
-  MtdfSolver(const SceneConfig& scene);
+  explicit MtdfSolver(const SceneConfig& scene);
+  static PressureSolverEntry entry();
   std::string name() const override { return "mtdf"; }
   void permute(const std::vector<Index>& order) override;
 

@@ -1,4 +1,4 @@
-// The one place that maps a scene's `solver` name to a pressure solver.
+// The one list of pressure solvers: adding a solver is its file pair, its #include and its line.
 
 #include <stdexcept>
 
@@ -9,19 +9,28 @@
 
 namespace sph {
 
+std::vector<PressureSolverEntry> pressure_solver_entries() {
+  return {
+      DfsphSolver::entry(),
+      MtdfSolver::entry(),
+      WcsphSolver::entry(),
+  };
+}
+
 std::vector<std::string> pressure_solver_names() {
-  return {"dfsph", "mtdf", "wcsph"};
+  std::vector<std::string> names;
+  for (const auto& e : pressure_solver_entries()) names.push_back(e.name);
+  return names;
+}
+
+PressureSolverEntry pressure_solver_entry(const std::string& name) {
+  for (auto& e : pressure_solver_entries())
+    if (e.name == name) return e;
+  throw std::invalid_argument("unknown pressure solver \"" + name + "\"");
 }
 
 std::unique_ptr<PressureSolver> make_pressure_solver(const SceneConfig& scene) {
-  if (scene.solver == "dfsph")
-    return std::make_unique<DfsphSolver>(scene.dfsph, scene.time_step.dt_max,
-                                         scene.materials.water.density);
-  if (scene.solver == "mtdf") return std::make_unique<MtdfSolver>(scene);
-  if (scene.solver == "wcsph")
-    return std::make_unique<WcsphSolver>(scene.wcsph, scene.particle_diameter(),
-                                         scene.time_step.cfl, scene.materials.water.density);
-  throw std::invalid_argument("unknown pressure solver \"" + scene.solver + "\"");
+  return pressure_solver_entry(scene.solver).make(scene);
 }
 
 }  // namespace sph

@@ -8,6 +8,17 @@
 
 namespace sph {
 
+PressureSolverEntry WcsphSolver::entry() {
+  return {"wcsph",
+          {common::ConfigSectionEntry::of<WcsphConfig>("wcsph", "WCSPH solver settings")},
+          {},
+          [](const SceneConfig& scene) -> std::unique_ptr<PressureSolver> {
+            return std::make_unique<WcsphSolver>(scene.settings<WcsphConfig>("wcsph"),
+                                                 scene.particle_diameter(), scene.time_step.cfl,
+                                                 scene.materials.water.density);
+          }};
+}
+
 WcsphSolver::WcsphSolver(const WcsphConfig& config, Real particle_diameter, Real cfl,
                          Real reference_density)
     : config_(config),

@@ -12,9 +12,29 @@
 
 namespace sph {
 
+// Scene key `wcsph`.
+struct WcsphConfig {
+  Real stiffness_exponent = 7;
+  Real expected_max_velocity = 5;
+  Real sound_speed_factor = 10;
+  template <class V>
+  void describe(V& v) {
+    v.field("stiffness_exponent", stiffness_exponent,
+            param("", "Exponent gamma of Tait's equation").at_least(1).at_most(10));
+    v.field("expected_max_velocity", expected_max_velocity,
+            param("m/s", "Largest flow speed expected; sets the speed of sound").positive());
+    v.field("sound_speed_factor", sound_speed_factor,
+            param("",
+                  "Speed of sound = this x expected_max_velocity (10 keeps density "
+                  "fluctuations near 1 %)")
+                .at_least(1));
+  }
+};
+
 class WcsphSolver : public PressureSolver {
  public:
   WcsphSolver(const WcsphConfig& config, Real particle_diameter, Real cfl, Real reference_density);
+  static PressureSolverEntry entry();
   std::string name() const override { return "wcsph"; }
   void step(SolverHost& host, StepStats& stats) override;
   void permute(const std::vector<Index>&) override {}  // no state kept between steps
