@@ -10,6 +10,7 @@ packages=(
   build-essential cmake pkg-config
   libeigen3-dev libhdf5-dev nlohmann-json3-dev libgtest-dev libcli11-dev libpng-dev
   libtorch-dev libopenblas0-pthread libgoogle-perftools-dev
+  python3-torch  # tests/gnn/gns_reference.py: the plain-PyTorch GNS our model is tested against
 )
 
 if [ "${SPILL_SKIP_APT:-0}" != "1" ]; then
