@@ -16,8 +16,8 @@
 #include <string>
 #include <vector>
 
-#include "gnn/frame_window.h"
-#include "gnn/learned_simulator.h"
+#include "gnn/data/frame_window.h"
+#include "gnn/models/learned_simulator.h"
 
 namespace fs = std::filesystem;
 
