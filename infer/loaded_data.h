@@ -8,6 +8,7 @@
 
 #include "common/output_folder.h"
 #include "gnn/data/dataset.h"
+#include "gnn/runtime/runtime.h"
 #include "gnn/training/checkpoint.h"
 #include "infer/commands.h"
 
@@ -25,6 +26,7 @@ inline LoadedData load_data(const CommonOptions& o) {
   d.metadata = gnn::read_metadata((std::filesystem::path(o.data_dir) / "metadata.json").string());
   gnn::check_data_fits(d.checkpoint.data, d.metadata, o.checkpoint);
   d.trajectories = gnn::read_split(o.data_dir, o.split, d.metadata);
+  d.checkpoint.simulator->to(gnn::parse_device(o.device));
   d.checkpoint.simulator->model().eval();
   return d;
 }

@@ -24,6 +24,7 @@ void add_common(CLI::App* c, infer::CommonOptions& o) {
   c->add_option("--out", o.out_dir, "output folder")->required();
   c->add_option("--threads", o.threads, "LibTorch, OpenMP and BLAS threads")
       ->check(CLI::PositiveNumber);
+  c->add_option("--device", o.device, "where the model runs: cpu (default) or cuda[:N]");
 }
 }  // namespace
 

@@ -3,15 +3,22 @@
 # it in build/ (Release). Idempotent: a second run only rebuilds what changed.
 #   bash scripts/setup.sh            # packages + build
 #   SPILL_SKIP_APT=1 bash scripts/setup.sh   # build only
+#   SPILL_CMAKE_ARGS=-DSPILL_WITH_TORCH=OFF bash scripts/setup.sh   # simulator only, no LibTorch
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
 packages=(
   build-essential cmake pkg-config
   libeigen3-dev libhdf5-dev nlohmann-json3-dev libgtest-dev libcli11-dev libpng-dev
-  libtorch-dev libopenblas0-pthread libgoogle-perftools-dev
-  python3-torch  # tests/gnn/gns_reference.py: the plain-PyTorch GNS our model is tested against
 )
+# The learning stack; a simulator-only build (SPILL_CMAKE_ARGS=-DSPILL_WITH_TORCH=OFF) needs none
+# of it, LibTorch's 2 GB included.
+if [[ "${SPILL_CMAKE_ARGS:-}" != *SPILL_WITH_TORCH=OFF* ]]; then
+  packages+=(
+    libtorch-dev libopenblas0-pthread libgoogle-perftools-dev
+    python3-torch  # tests/gnn/gns_reference.py: the plain-PyTorch GNS our model is tested against
+  )
+fi
 
 if [ "${SPILL_SKIP_APT:-0}" != "1" ]; then
   missing=()

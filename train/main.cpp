@@ -35,12 +35,15 @@ int main(int argc, char** argv) {
   app.add_option("--set", options.overrides,
                  "override a training config value: /pointer=value (e.g. /steps=200, "
                  "/model/latent=64)");
+  std::string device = "cpu";
+  app.add_option("--device", device, "where the model trains: cpu (default) or cuda[:N]");
   CLI11_PARSE(app, argc, argv);
   gnn::configure_runtime({threads, blas_threads});
   options.log = &std::cerr;
   options.terminal = isatty(2);
   try {
     options.out_dir = common::normalise_output_path(options.out_dir).string();
+    options.device = gnn::parse_device(device);
     train::Trainer trainer(options);
     const double loss = trainer.run();
     std::cout << "trained to step " << trainer.step() << ", loss " << loss << "; run in "

@@ -84,6 +84,8 @@ Trainer::Trainer(TrainerOptions options) : options_(std::move(options)) {
         model, gnn::Normalisation::from_metadata(metadata_, model->noise_std()), metadata_.bounds);
     state_.training_config = config_.training_json;
   }
+  simulator_->to(options_.device);
+  objective_ = gnn::make_objective(simulator_->model());
   optimizer_ = std::make_unique<torch::optim::Adam>(
       simulator_->model().parameters(), torch::optim::AdamOptions(config_.training.lr_max));
   noise_generator_ = at::make_generator<at::CPUGeneratorImpl>(uint64_t(config_.training.seed));
@@ -124,16 +126,20 @@ TrainingBatch Trainer::sample_batch() {
     targets.push_back(simulator_->normalise_acceleration(gnn::target_acceleration(history, next)));
     masks.push_back(t.active[frame + 1].index_select(0, ids));
   }
-  return {gnn::join_graphs(graphs), torch::cat(targets), torch::cat(masks)};
+  const torch::Device device = simulator_->device();
+  return {gnn::join_graphs(graphs), torch::cat(targets).to(device), torch::cat(masks).to(device)};
 }
 
 torch::Tensor Trainer::loss(const TrainingBatch& batch) {
-  auto predicted = simulator_->model().forward(batch.graph).index({batch.graph.fluid});
-  return (predicted - batch.target).pow(2).index({batch.mask}).mean();
+  const gnn::ModelOutput output =
+      simulator_->model().forward(batch.graph, objective_->forward_options());
+  return objective_->evaluate(output, batch).total;
 }
 
 void Trainer::validate(double& one_step_loss, double& rollout_mse) {
   torch::NoGradGuard no_grad;
+  // Batch normalisation (PAGATNet) uses its running statistics here, as in a rollout.
+  simulator_->model().eval();
   const auto& c = config_.training;
   double sum = 0;
   int count = 0;

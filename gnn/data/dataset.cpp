@@ -1,5 +1,7 @@
 #include "gnn/data/dataset.h"
 
+#include "common/hdf5_handles.h"
+
 #include <hdf5.h>
 
 #include <filesystem>
@@ -23,13 +25,7 @@ std::string shape_text(const std::vector<hsize_t>& dims) {
 }
 
 // An open HDF5 object closed at the end of scope.
-struct Handle {
-  hid_t id;
-  herr_t (*close)(hid_t);
-  ~Handle() {
-    if (id >= 0) close(id);
-  }
-};
+using Handle = common::Hdf5Handle;
 
 bool has_link(hid_t group, const std::string& name) {
   return H5Lexists(group, name.c_str(), H5P_DEFAULT) > 0;
@@ -168,15 +164,7 @@ std::vector<Trajectory> read_split(const std::string& dir, const std::string& sp
                                    const DatasetMetadata& metadata) {
   const std::string file = (fs::path(dir) / (split + ".h5")).string();
   if (!fs::exists(file)) fail(file, "no such file (expected the \"" + split + "\" split)");
-  H5E_auto2_t old_handler;
-  void* old_data;
-  H5Eget_auto2(H5E_DEFAULT, &old_handler, &old_data);
-  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);  // our messages replace HDF5's stack dumps
-  struct RestoreHandler {
-    H5E_auto2_t h;
-    void* d;
-    ~RestoreHandler() { H5Eset_auto2(H5E_DEFAULT, h, d); }
-  } restore{old_handler, old_data};
+  const common::QuietHdf5Errors quiet;  // our messages replace HDF5's stack dumps
 
   Handle h5{H5Fopen(file.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose};
   if (h5.id < 0) fail(file, "cannot open as HDF5 (not an HDF5 file, or damaged)");

@@ -5,6 +5,7 @@
 
 #include <torch/torch.h>
 
+#include <string>
 #include <vector>
 
 namespace gnn {
@@ -15,6 +16,10 @@ struct GraphInput {
   torch::Tensor edge_index;     // [2, E] int64: senders, receivers
   torch::Tensor edge_features;  // [E, 4] float32: (x_sender - x_receiver) / radius, its norm
   torch::Tensor fluid;          // [n] bool: the nodes whose acceleration is predicted
+  // Heterogeneous typing (PAGATNet, MODELS.md): built only for a model whose needs_typing()
+  // says so, undefined otherwise.
+  torch::Tensor node_class;  // [n] int64: oil/water x surface/inner, boundary
+  torch::Tensor link_type;   // [E] int64: ST, SP, DP, BD
   int64_t nodes() const { return node_type.size(0); }
   int64_t edges() const { return edge_index.size(1); }
 };
@@ -25,10 +30,17 @@ constexpr int64_t kBoundFeatures = 6;
 constexpr int64_t kNodeFeatures = kVelocityFeatures + kMaterialFeatures + kBoundFeatures;
 constexpr int64_t kEdgeFeatures = 4;
 
+// Checks every tensor's shape, dtype, contiguity and device at a model's entry; a mismatch throws
+// std::invalid_argument naming `where`, the tensor and the sizes it got.
+void check_graph_input(const GraphInput& g, const std::string& where);
+
+// The same graph with every tensor on `device`.
+GraphInput to_device(const GraphInput& g, const torch::Device& device);
+
 // Joins graphs into one with disjoint node sets (edge indices offset), for batches.
 inline GraphInput join_graphs(const std::vector<GraphInput>& graphs) {
   if (graphs.size() == 1) return graphs[0];
-  std::vector<torch::Tensor> nf, nt, ei, ef, fl;
+  std::vector<torch::Tensor> nf, nt, ei, ef, fl, nc, lt;
   int64_t offset = 0;
   for (const auto& g : graphs) {
     nf.push_back(g.node_features);
@@ -36,9 +48,19 @@ inline GraphInput join_graphs(const std::vector<GraphInput>& graphs) {
     ei.push_back(g.edge_index + offset);
     ef.push_back(g.edge_features);
     fl.push_back(g.fluid);
+    if (g.node_class.defined()) nc.push_back(g.node_class);
+    if (g.link_type.defined()) lt.push_back(g.link_type);
     offset += g.nodes();
   }
-  return {torch::cat(nf), torch::cat(nt), torch::cat(ei, 1), torch::cat(ef), torch::cat(fl)};
+  GraphInput out;
+  out.node_features = torch::cat(nf);
+  out.node_type = torch::cat(nt);
+  out.edge_index = torch::cat(ei, 1);
+  out.edge_features = torch::cat(ef);
+  out.fluid = torch::cat(fl);
+  if (nc.size() == graphs.size()) out.node_class = torch::cat(nc);
+  if (lt.size() == graphs.size()) out.link_type = torch::cat(lt);
+  return out;
 }
 
 }  // namespace gnn

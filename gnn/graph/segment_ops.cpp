@@ -89,20 +89,20 @@ EdgeOrder edge_order(const torch::Tensor& edge_index, int64_t nodes) {
 }
 
 torch::Tensor gather_receivers(const torch::Tensor& values, const EdgeOrder& o) {
-  if (!o.canonical || values.scalar_type() != torch::kFloat32)
+  if (!o.canonical || values.scalar_type() != torch::kFloat32 || !values.is_cpu())
     return values.index_select(0, o.receivers);
   return GatherReceivers::apply(values, o.receivers, o.offsets);
 }
 
 torch::Tensor gather_senders(const torch::Tensor& values, const EdgeOrder& o) {
-  if (!o.canonical || values.scalar_type() != torch::kFloat32)
+  if (!o.canonical || values.scalar_type() != torch::kFloat32 || !values.is_cpu())
     return values.index_select(0, o.senders);
   return GatherSenders::apply(values, o.senders, o.offsets, o.reverse);
 }
 
 torch::Tensor sum_to_receivers(const torch::Tensor& edge_values, const EdgeOrder& o,
                                int64_t nodes) {
-  if (!o.canonical || edge_values.scalar_type() != torch::kFloat32)
+  if (!o.canonical || edge_values.scalar_type() != torch::kFloat32 || !edge_values.is_cpu())
     return torch::zeros({nodes, edge_values.size(1)}, edge_values.options())
         .index_add_(0, o.receivers, edge_values);
   return SumToReceivers::apply(edge_values, o.receivers, o.offsets);

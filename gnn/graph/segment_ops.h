@@ -20,7 +20,8 @@ struct EdgeOrder {
 EdgeOrder edge_order(const torch::Tensor& edge_index, int64_t nodes);
 
 // values[receivers], values[senders] and the per-receiver sum of edge rows, each with the
-// CSR backward when order.canonical (plain index_select / index_add_ otherwise).
+// CSR backward when order.canonical and the tensors are float32 on the CPU (plain index_select /
+// index_add_ otherwise, e.g. on a GPU).
 torch::Tensor gather_receivers(const torch::Tensor& values, const EdgeOrder& order);
 torch::Tensor gather_senders(const torch::Tensor& values, const EdgeOrder& order);
 torch::Tensor sum_to_receivers(const torch::Tensor& edge_values, const EdgeOrder& order,

@@ -58,12 +58,21 @@ GnsModel::Latents GnsModel::encode(const GraphInput& g) {
           edge_encoder_->forward(g.edge_features)};
 }
 
-GnsModel::Latents GnsModel::process(Latents x, const GraphInput& g) {
+GnsModel::Latents GnsModel::process(Latents x, const GraphInput& g,
+                                    std::vector<torch::Tensor>* node_latents,
+                                    std::vector<torch::Tensor>* edge_latents) {
   const int64_t L = config_.latent;
   auto v = x.nodes, e = x.edges;
   const EdgeOrder order = edge_order(g.edge_index, g.nodes());
   // Without autograd the residual sums overwrite the latents (copies: the caller's stay intact).
-  const bool in_place = !torch::GradMode::is_enabled();
+  // The fused CPU kernels of that path read raw float32 memory; elsewhere (a GPU) the plain
+  // products below serve both cases.
+  const bool in_place = !torch::GradMode::is_enabled() && v.is_cpu();
+  // After each layer, when asked: a copy on the in-place path, which overwrites v and e.
+  auto keep = [&] {
+    if (node_latents) node_latents->push_back(in_place ? v.clone() : v);
+    if (edge_latents) edge_latents->push_back(in_place ? e.clone() : e);
+  };
   if (in_place) {
     v = v.clone();
     e = e.clone();
@@ -77,6 +86,7 @@ GnsModel::Latents GnsModel::process(Latents x, const GraphInput& g) {
       auto aggregated = sum_to_receivers(e_update, order, g.nodes());
       node_update_in_chunks(k, v, aggregated);
       e.add_(e_update);
+      keep();
       continue;
     }
     // Edge update from [e_ij, v_receiver, v_sender] with the first layer split per node.
@@ -94,6 +104,7 @@ GnsModel::Latents GnsModel::process(Latents x, const GraphInput& g) {
     auto v_update = node_mlp_[k]->forward_after_first(node_in);
     e = e + e_update;
     v = v + v_update;
+    keep();
   }
   return {v, e};
 }
@@ -240,8 +251,19 @@ torch::Tensor GnsModel::decode(const Latents& x) {
   return decoder_->forward(x.nodes);
 }
 
-torch::Tensor GnsModel::forward(const GraphInput& g) {
-  return decode(process(encode(g), g));
+ModelOutput GnsModel::run(const GraphInput& g, const ForwardOptions& options) {
+  ModelOutput out;
+  const Latents latents = process(encode(g), g, options.keep_latents ? &out.node_latents : nullptr,
+                                  options.keep_latents ? &out.edge_latents : nullptr);
+  out.acceleration = decode(latents);
+  return out;
+}
+
+std::shared_ptr<GraphModel> GnsModel::from_config(const nlohmann::json& config,
+                                                  const std::string& file) {
+  GnsConfig c;
+  common::JsonReader::read_struct(config, file, "", c);
+  return std::make_shared<GnsModel>(c);
 }
 
 double GnsModel::processor_flops(int64_t nodes, int64_t edges) const {
@@ -255,19 +277,6 @@ double GnsModel::processor_flops(int64_t nodes, int64_t edges) const {
 
 nlohmann::json GnsModel::config() const {
   return common::JsonWriter::write_struct(config_);
-}
-
-std::shared_ptr<GraphModel> make_model(const nlohmann::json& config, const std::string& file) {
-  if (!config.is_object()) throw common::ConfigError(file, "", "expected a JSON object");
-  if (!config.contains("model") || !config["model"].is_string())
-    throw common::ConfigError(file, "/model", "missing the model name (one of: gns)");
-  const std::string name = config["model"].get<std::string>();
-  if (name == "gns") {
-    GnsConfig c;
-    common::JsonReader::read_struct(config, file, "", c);
-    return std::make_shared<GnsModel>(c);
-  }
-  throw common::ConfigError(file, "/model", "unknown model \"" + name + "\" (known: gns)");
 }
 
 }  // namespace gnn

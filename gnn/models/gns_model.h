@@ -65,13 +65,18 @@ TORCH_MODULE(Mlp);
 class GnsModel : public GraphModel {
  public:
   explicit GnsModel(const GnsConfig& config);
-  torch::Tensor forward(const GraphInput& graph) override;
+  // The registry's factory: validates `config` (errors name `file` and the key).
+  static std::shared_ptr<GraphModel> from_config(const nlohmann::json& config,
+                                                 const std::string& file);
   // The three stages, public so benchmarks can time the processor alone.
   struct Latents {
     torch::Tensor nodes, edges;
   };
   Latents encode(const GraphInput& graph);
-  Latents process(Latents latents, const GraphInput& graph);
+  // With `node_latents` / `edge_latents`, each layer's latents are appended to them.
+  Latents process(Latents latents, const GraphInput& graph,
+                  std::vector<torch::Tensor>* node_latents = nullptr,
+                  std::vector<torch::Tensor>* edge_latents = nullptr);
   torch::Tensor decode(const Latents& latents);
   // Multiply-add FLOPs (2 per multiply-add) of the processor's matrix products for a graph.
   double processor_flops(int64_t nodes, int64_t edges) const;
@@ -80,6 +85,9 @@ class GnsModel : public GraphModel {
   double noise_std() const override { return config_.noise_std; }
   nlohmann::json config() const override;
   const GnsConfig& gns_config() const { return config_; }
+
+ protected:
+  ModelOutput run(const GraphInput& graph, const ForwardOptions& options) override;
 
  private:
   // Inference helpers (no autograd, BLAS single-threaded by the caller): x W^T in row chunks

@@ -1,33 +1,77 @@
 #pragma once
-// The interface every learned simulator implements (GNS here; DPI-Nets and PAGATNet plug in the
-// same way): one graph in, the normalised acceleration of every node out. The factory builds a
-// model from its JSON config by the config's "model" name, validating every key.
+// The contract every learned simulator implements (GNS here; DPI-Nets and PAGATNet plug in the
+// same way): one graph in, a ModelOutput out. The registry (model_registry.cpp) builds a model
+// from its JSON config by the config's "model" name, validating every key.
+//
+// forward() checks the graph (shapes, dtypes, contiguity, device) before the model sees it and
+// runs on the model's device; models are used in train() mode for training and in eval() mode
+// for validation and rollouts (batch normalisation behaves differently in the two).
 
 #include <torch/torch.h>
 
+#include <map>
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <vector>
 
 #include "gnn/data/dataset.h"
 #include "gnn/graph/graph_input.h"
 
 namespace gnn {
 
+// What the caller wants besides the acceleration.
+struct ForwardOptions {
+  // Keep the node and edge latents after every processor layer (distillation pairs a student's
+  // layers with a teacher's); off, they are not kept and cost nothing.
+  bool keep_latents = false;
+};
+
+// A model's output for one graph.
+struct ModelOutput {
+  torch::Tensor acceleration;               // [n, 3] normalised (only fluid rows are used)
+  std::vector<torch::Tensor> node_latents;  // per processor layer [n, L]; empty unless asked
+  std::vector<torch::Tensor> edge_latents;  // per processor layer [E, L]; empty unless asked
+  // Outputs of auxiliary heads by name, e.g. PAGATNet's "node_class_logits" [n, 4].
+  std::map<std::string, torch::Tensor> auxiliary;
+};
+
 class GraphModel : public torch::nn::Module {
  public:
-  // Normalised acceleration [n, 3] of every node (only fluid rows are used).
-  virtual torch::Tensor forward(const GraphInput& graph) = 0;
+  // Checks the graph, then runs the model.
+  ModelOutput forward(const GraphInput& graph, const ForwardOptions& options) {
+    check_graph_input(graph, name() + " forward");
+    return run(graph, options);
+  }
+  // The normalised acceleration [n, 3] alone.
+  torch::Tensor acceleration(const GraphInput& graph) {
+    return forward(graph, ForwardOptions{}).acceleration;
+  }
+
   virtual std::string name() const = 0;
   // Input settings shared by all models, from the model's config.
   virtual double radius() const = 0;     // connectivity radius, m
   virtual double noise_std() const = 0;  // training noise on velocities, m per frame
+  // Whether the model reads GraphInput::node_class and link_type (they are built only then).
+  virtual bool needs_typing() const { return false; }
   // The resolved config (defaults filled in), stored in checkpoints.
   virtual nlohmann::json config() const = 0;
+
+  // The device of the model's parameters (where its inputs must be).
+  torch::Device device() const {
+    const auto p = parameters();
+    return p.empty() ? torch::Device(torch::kCPU) : p.front().device();
+  }
+
+ protected:
+  virtual ModelOutput run(const GraphInput& graph, const ForwardOptions& options) = 0;
 };
 
 // Builds the model named by config["model"]; `file` names the config in errors (ConfigError
 // with the key path for unknown keys, wrong types and out-of-range values).
 std::shared_ptr<GraphModel> make_model(const nlohmann::json& config, const std::string& file);
+
+// The registered model names.
+std::vector<std::string> model_names();
 
 }  // namespace gnn

@@ -3,13 +3,54 @@
 #include "gnn/data/frame_window.h"
 #include "gnn/graph/radius_graph.h"
 
+#include <stdexcept>
+#include <vector>
+
 namespace gnn {
 
 LearnedSimulator::LearnedSimulator(std::shared_ptr<GraphModel> model, Normalisation normalisation,
                                    Bounds bounds)
     : model_(std::move(model)), normalisation_(std::move(normalisation)), bounds_(bounds) {}
 
+namespace {
+
+std::string sizes_text(const torch::Tensor& t) {
+  std::string s = "[";
+  for (int64_t k = 0; k < t.dim(); ++k) s += (k ? ", " : "") + std::to_string(t.size(k));
+  return s + "]";
+}
+
+}  // namespace
+
+void check_frame_nodes(const FrameNodes& f, const std::string& where) {
+  auto check = [&](const char* name, const torch::Tensor& t, std::vector<int64_t> sizes,
+                   torch::ScalarType dtype) {
+    auto fail = [&](const std::string& what) {
+      throw std::invalid_argument(where + ": frame " + name + ": " + what);
+    };
+    if (!t.defined()) fail("is missing");
+    bool ok = t.dim() == int64_t(sizes.size());
+    for (size_t k = 0; ok && k < sizes.size(); ++k)
+      ok = sizes[k] < 0 || t.size(int64_t(k)) == sizes[k];
+    if (!ok) fail("got sizes " + sizes_text(t));
+    if (t.scalar_type() != dtype)
+      fail(std::string("expected dtype ") + c10::toString(dtype) + ", got " +
+           c10::toString(t.scalar_type()));
+    if (!t.is_cpu()) fail("expected a CPU tensor, got one on " + t.device().str());
+  };
+  check("history", f.history, {-1, kWindow, 3}, torch::kFloat32);
+  const int64_t n = f.history.size(0);
+  check("type", f.type, {n}, torch::kInt64);
+  check("material", f.material, {3, kMaterialFeatures}, torch::kFloat32);
+  check("boundary", f.boundary, {-1, 3}, torch::kFloat32);
+}
+
+void LearnedSimulator::to(const torch::Device& device) {
+  model_->to(device);
+}
+
 GraphInput LearnedSimulator::encode(const FrameNodes& f) const {
+  check_frame_nodes(f, "LearnedSimulator::encode");
   const double radius = model_->radius();
   const int64_t fluid_count = f.history.size(0);
   auto current = f.history.select(1, kWindow - 1).contiguous();
@@ -44,12 +85,16 @@ GraphInput LearnedSimulator::encode(const FrameNodes& f) const {
                       radius;
   g.edge_features = torch::cat({displacement, displacement.norm(2, 1, true)}, 1);
   g.fluid = torch::arange(fluid_count + boundary_count) < fluid_count;
-  return g;
+  if (model_->needs_typing())
+    throw std::logic_error(model_->name() +
+                           " needs the heterogeneous typing, which is not built yet");
+  const torch::Device device = model_->device();
+  return device.is_cpu() ? g : to_device(g, device);
 }
 
 torch::Tensor LearnedSimulator::predict_normalised(const FrameNodes& nodes) {
   const int64_t fluid_count = nodes.history.size(0);
-  return model_->forward(encode(nodes)).slice(0, 0, fluid_count);
+  return model_->acceleration(encode(nodes)).slice(0, 0, fluid_count).to(torch::kCPU);
 }
 
 torch::Tensor LearnedSimulator::normalise_acceleration(const torch::Tensor& a) const {

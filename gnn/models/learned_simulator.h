@@ -9,6 +9,7 @@
 
 #include <array>
 #include <memory>
+#include <string>
 
 #include "gnn/data/normalisation.h"
 #include "gnn/models/graph_model.h"
@@ -17,11 +18,15 @@ namespace gnn {
 
 // The fluid particles of one frame and the static boundary around them.
 struct FrameNodes {
-  torch::Tensor history;   // [n, 6, 3] positions, oldest first
+  torch::Tensor history;   // [n, 6, 3] float32 positions, oldest first
   torch::Tensor type;      // [n] int64, water or oil
-  torch::Tensor material;  // [3, 2] material features by type
-  torch::Tensor boundary;  // [M, 3] boundary positions (those near fluid become nodes)
+  torch::Tensor material;  // [3, 2] float32 material features by type
+  torch::Tensor boundary;  // [M, 3] float32 boundary positions (those near fluid become nodes)
 };
+
+// Throws std::invalid_argument naming `where`, the tensor and its sizes when `nodes` does not
+// have the shapes and dtypes above (CPU tensors).
+void check_frame_nodes(const FrameNodes& nodes, const std::string& where);
 
 using Bounds = std::array<std::array<double, 2>, 3>;
 
@@ -34,7 +39,14 @@ class LearnedSimulator {
   const Normalisation& normalisation() const { return normalisation_; }
   const Bounds& bounds() const { return bounds_; }
 
-  // Graph and features of a frame; fluid nodes come first, in the order of `nodes`.
+  // Moves the model to `device` (default: the CPU). The input pipeline (radius graph, features)
+  // runs on the CPU and its graph is handed to the model's device; predictions come back to the
+  // CPU, so callers never see the device.
+  void to(const torch::Device& device);
+  torch::Device device() const { return model_->device(); }
+
+  // Graph and features of a frame on the model's device; fluid nodes come first, in the order
+  // of `nodes`. Checks the shapes and dtypes of `nodes`.
   GraphInput encode(const FrameNodes& nodes) const;
   // Normalised acceleration of the fluid nodes [n, 3] (with autograd when enabled).
   torch::Tensor predict_normalised(const FrameNodes& nodes);

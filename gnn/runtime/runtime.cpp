@@ -57,4 +57,18 @@ double peak_memory_mib() {
   return double(usage.ru_maxrss) / 1024.0;  // Linux reports KiB
 }
 
+torch::Device parse_device(const std::string& name) {
+  try {
+    const torch::Device device(name);
+    if (device.is_cuda() && !torch::cuda::is_available())
+      throw std::invalid_argument("--device " + name +
+                                  ": no CUDA device is available to this LibTorch build");
+    if (!device.is_cpu() && !device.is_cuda())
+      throw std::invalid_argument("--device " + name + ": expected cpu or cuda[:N]");
+    return device;
+  } catch (const c10::Error&) {
+    throw std::invalid_argument("--device " + name + ": expected cpu or cuda[:N]");
+  }
+}
+
 }  // namespace gnn

@@ -8,6 +8,10 @@
 //    gather/scatter-heavy graph code page-faults its tensors in again each step (2-4x slower);
 //    taking every block from the heap and never trimming it keeps them mapped.
 
+#include <torch/torch.h>
+
+#include <string>
+
 namespace gnn {
 
 struct RuntimeSettings {
@@ -29,6 +33,10 @@ class SingleThreadedBlas {
  private:
   int previous_ = 0;
 };
+
+// The device named by a --device option ("cpu", "cuda", "cuda:1"); throws std::invalid_argument
+// naming the option for a malformed name or a device this LibTorch or machine does not have.
+torch::Device parse_device(const std::string& name);
 
 // Peak resident memory of this process so far, in MiB.
 double peak_memory_mib();

@@ -1,4 +1,6 @@
 #include "sph/io/trajectory_writer.h"
+
+#include "common/hdf5_handles.h"
 #include "sph/core/simulation_error.h"
 
 #include <hdf5.h>
@@ -21,7 +23,7 @@ TrajectoryWriter::TrajectoryWriter(const std::string& file, const std::string& g
                                    const std::vector<std::int32_t>& particle_type,
                                    const std::vector<Vec3>& boundary_position)
     : file_(file), particles_(particle_type.size()) {
-  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);  // we report errors ourselves, with the file name
+  const common::QuietHdf5Errors quiet;  // we report errors ourselves, with the file name
   file_id_ = check_id(H5Fcreate(file.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT), file,
                       "create the file");
   group_id_ = check_id(H5Gcreate2(file_id_, group.c_str(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
@@ -62,6 +64,7 @@ TrajectoryWriter::TrajectoryWriter(const std::string& file, const std::string& g
 }
 
 TrajectoryWriter::~TrajectoryWriter() {
+  const common::QuietHdf5Errors quiet;
   try {
     close();
   } catch (...) {
@@ -111,6 +114,7 @@ void TrajectoryWriter::append_rows(std::int64_t dataset, int rank,
 
 void TrajectoryWriter::append(double time, const float* position, const float* velocity,
                               const std::uint8_t* active, const float* oil_fraction) {
+  const common::QuietHdf5Errors quiet;
   append_rows(position_id_, 3, {particles_, 3}, H5T_NATIVE_FLOAT, position);
   append_rows(velocity_id_, 3, {particles_, 3}, H5T_NATIVE_FLOAT, velocity);
   append_rows(time_id_, 1, {}, H5T_NATIVE_DOUBLE, &time);
@@ -142,6 +146,7 @@ void TrajectoryWriter::append(double time, const std::vector<Vec3>& position,
 }
 
 void TrajectoryWriter::close() {
+  const common::QuietHdf5Errors quiet;
   for (std::int64_t* ds : {&position_id_, &velocity_id_, &time_id_, &active_id_, &fraction_id_})
     if (*ds >= 0) {
       H5Dclose(hid_t(*ds));

@@ -127,7 +127,7 @@ int main(int argc, char** argv) {
     auto g = lattice_graph(size, model->radius());
     torch::NoGradGuard no_grad;
     model->eval();
-    const double forward_s = time_median(repeat, [&] { model->forward(g); });
+    const double forward_s = time_median(repeat, [&] { model->acceleration(g); });
     auto latents = model->encode(g);
     const double processor_s = time_median(repeat, [&] { model->process(latents, g); });
     const double gflops = model->processor_flops(g.nodes(), g.edges()) / processor_s / 1e9;
@@ -147,7 +147,7 @@ int main(int argc, char** argv) {
     torch::optim::Adam adam(model->parameters(), torch::optim::AdamOptions(1e-4));
     auto target = torch::randn({g.nodes(), 3});
     const double step_s = time_median(repeat, [&] {
-      auto loss = (model->forward(g) - target).pow(2).mean();
+      auto loss = (model->acceleration(g) - target).pow(2).mean();
       loss.backward();
       adam.step();
       adam.zero_grad();

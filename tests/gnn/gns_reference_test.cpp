@@ -175,14 +175,14 @@ TEST(GnsReference, ForwardEqualsPlainPyTorchOnTheSameWeights) {
   torch::Tensor inference;
   {
     torch::NoGradGuard no_grad;
-    inference = model->forward(g);
+    inference = model->acceleration(g);
   }
   const double eval_difference = max_relative_difference(inference, reference);
   EXPECT_LE(eval_difference, kTolerance) << "eval mode, no autograd";
 
   // Training: train mode with autograd, the path with the split layers as separate products.
   model->train();
-  auto training = model->forward(g);
+  auto training = model->acceleration(g);
   ASSERT_TRUE(training.requires_grad());
   const double train_difference = max_relative_difference(training, reference);
   EXPECT_LE(train_difference, kTolerance) << "train mode, autograd";

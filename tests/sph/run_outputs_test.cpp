@@ -265,6 +265,25 @@ TEST(RunOutputs, DotAndTrailingSlashOutFoldersAreSafe) {
   fs::remove_all(dir);
 }
 
+// A library call leaves process-wide state alone: the trajectory writer silences HDF5's error
+// printing (it reports errors itself, naming the file) only while it calls HDF5.
+TEST(RunOutputs, Hdf5ErrorPrintingIsRestoredAfterARun) {
+  H5E_auto2_t before = nullptr;
+  void* before_data = nullptr;
+  H5Eget_auto2(H5E_DEFAULT, &before, &before_data);
+  ASSERT_NE(before, nullptr);  // HDF5 prints its error stack by default
+  const fs::path dir = fresh_dir("spill_run_hdf5_errors");
+  RunOptions options;
+  options.out_dir = dir / "run";
+  run_scene(parse_scene(small_scene(), "small.json"), options);
+  H5E_auto2_t after = nullptr;
+  void* after_data = nullptr;
+  H5Eget_auto2(H5E_DEFAULT, &after, &after_data);
+  EXPECT_EQ(after, before);
+  EXPECT_EQ(after_data, before_data);
+  fs::remove_all(dir);
+}
+
 TEST(RunOutputs, ParticleLeavingTheDomainStopsTheRunAndWritesNothing) {
   const fs::path dir = fresh_dir("spill_run_escape");
   auto j = small_scene();

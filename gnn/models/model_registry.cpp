@@ -1,0 +1,42 @@
+// The one list of learned models: adding a model is its file pair, its #include and its line.
+
+#include "common/config_error.h"
+#include "gnn/models/gns_model.h"
+
+namespace gnn {
+
+namespace {
+
+struct ModelEntry {
+  std::string name;
+  std::shared_ptr<GraphModel> (*make)(const nlohmann::json& config, const std::string& file);
+};
+
+std::vector<ModelEntry> model_entries() {
+  return {
+      {"gns", &GnsModel::from_config},
+  };
+}
+
+}  // namespace
+
+std::vector<std::string> model_names() {
+  std::vector<std::string> names;
+  for (const auto& e : model_entries()) names.push_back(e.name);
+  return names;
+}
+
+std::shared_ptr<GraphModel> make_model(const nlohmann::json& config, const std::string& file) {
+  std::string known;
+  for (const auto& name : model_names()) known += (known.empty() ? "" : ", ") + name;
+  if (!config.is_object()) throw common::ConfigError(file, "", "expected a JSON object");
+  if (!config.contains("model") || !config["model"].is_string())
+    throw common::ConfigError(file, "/model", "missing the model name (one of: " + known + ")");
+  const std::string name = config["model"].get<std::string>();
+  for (const auto& e : model_entries())
+    if (e.name == name) return e.make(config, file);
+  throw common::ConfigError(file, "/model",
+                            "unknown model \"" + name + "\" (known: " + known + ")");
+}
+
+}  // namespace gnn

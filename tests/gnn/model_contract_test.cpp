@@ -1,0 +1,122 @@
+// The contract every learned model keeps (gnn/models/graph_model.h): the output struct with
+// per-layer latents on request, checked graph inputs whose errors print the offending sizes, the
+// device option, and the pluggable training objective.
+#include <gtest/gtest.h>
+
+#include "gnn/graph/radius_graph.h"
+#include "gnn/models/graph_model.h"
+#include "gnn/runtime/runtime.h"
+#include "gnn/training/objective.h"
+
+namespace {
+
+gnn::GraphInput random_graph(int64_t n, double radius) {
+  auto points = torch::rand({n, 3});
+  auto graph = gnn::build_radius_graph(points, torch::zeros({0, 3}), radius);
+  gnn::GraphInput g;
+  g.node_features = torch::randn({n, gnn::kNodeFeatures});
+  g.node_type = torch::randint(0, 2, {n}, torch::kInt64);
+  g.edge_index = graph.edge_index;
+  g.edge_features = torch::randn({graph.edge_index.size(1), gnn::kEdgeFeatures});
+  g.fluid = torch::ones({n}, torch::kBool);
+  return g;
+}
+
+std::shared_ptr<gnn::GraphModel> small_gns() {
+  return gnn::make_model({{"model", "gns"}, {"latent", 16}, {"layers", 3}}, "test");
+}
+
+// Expects `body` to throw std::invalid_argument whose message holds every one of `words`.
+template <class F>
+void expect_message(F body, const std::vector<std::string>& words) {
+  try {
+    body();
+    ADD_FAILURE() << "expected std::invalid_argument";
+  } catch (const std::invalid_argument& e) {
+    for (const auto& w : words)
+      EXPECT_NE(std::string(e.what()).find(w), std::string::npos) << e.what();
+  }
+}
+
+TEST(ModelContract, LatentsOfEveryLayerOnRequestWithTheSameAcceleration) {
+  torch::manual_seed(3);
+  const auto g = random_graph(120, 0.3);
+  auto model = small_gns();
+  for (const bool grad : {true, false}) {
+    SCOPED_TRACE(grad ? "autograd path" : "inference path");
+    torch::AutoGradMode mode(grad);
+    const gnn::ModelOutput plain = model->forward(g, {});
+    EXPECT_TRUE(plain.node_latents.empty());
+    EXPECT_TRUE(plain.edge_latents.empty());
+    gnn::ForwardOptions keep;
+    keep.keep_latents = true;
+    const gnn::ModelOutput with = model->forward(g, keep);
+    ASSERT_EQ(with.node_latents.size(), 3u);
+    ASSERT_EQ(with.edge_latents.size(), 3u);
+    for (size_t k = 0; k < 3; ++k) {
+      EXPECT_EQ(with.node_latents[k].sizes().vec(), (std::vector<int64_t>{g.nodes(), 16}));
+      EXPECT_EQ(with.edge_latents[k].sizes().vec(), (std::vector<int64_t>{g.edges(), 16}));
+    }
+    // Each layer's latents are that layer's, not the last one's (the inference path updates
+    // its latents in place, so it must keep copies).
+    EXPECT_FALSE(torch::equal(with.node_latents[0], with.node_latents[2]));
+    EXPECT_TRUE(torch::equal(plain.acceleration, with.acceleration));
+  }
+}
+
+TEST(ModelContract, BadGraphInputsAreRefusedNamingTheTensorAndItsSizes) {
+  const auto good = random_graph(50, 0.4);
+  auto model = small_gns();
+  auto g = good;
+  g.node_features = torch::randn({50, gnn::kNodeFeatures - 1});
+  expect_message([&] { model->acceleration(g); },
+                 {"gns forward", "node_features", "[*, 23]", "[50, 22]"});
+  g = good;
+  g.edge_index = good.edge_index.to(torch::kInt32);
+  expect_message([&] { model->acceleration(g); }, {"edge_index", "Long", "Int"});
+  g = good;
+  g.edge_features = torch::randn({gnn::kEdgeFeatures, good.edges()}).t();  // a transposed view
+  expect_message([&] { model->acceleration(g); }, {"edge_features", "contiguous"});
+  g = good;
+  g.fluid = good.fluid.slice(0, 0, 49);
+  expect_message([&] { model->acceleration(g); }, {"fluid", "[50]", "[49]"});
+  EXPECT_NO_THROW(model->acceleration(good));
+}
+
+// On the CPU the device option changes nothing; a device this build lacks is a clear error.
+TEST(ModelContract, DeviceOptionMovesTheModelAndNamesAMissingDevice) {
+  torch::manual_seed(4);
+  const auto g = random_graph(80, 0.3);
+  auto model = small_gns();
+  const auto before = model->acceleration(g);
+  model->to(gnn::parse_device("cpu"));
+  EXPECT_TRUE(model->device().is_cpu());
+  EXPECT_TRUE(torch::equal(before, model->acceleration(g)));
+  expect_message([] { gnn::parse_device("tpu:0"); }, {"--device tpu:0", "cpu or cuda"});
+  if (!torch::cuda::is_available())
+    expect_message([] { gnn::parse_device("cuda"); }, {"--device cuda", "no CUDA device"});
+}
+
+TEST(TrainingObjective, AccelerationMseIsTheMaskedMeanSquareOverFluidRows) {
+  torch::manual_seed(5);
+  gnn::TrainingBatch batch;
+  batch.graph.fluid = torch::tensor({true, true, false, true});
+  batch.target = torch::randn({3, 3});
+  batch.mask = torch::tensor({true, false, true});
+  gnn::ModelOutput out;
+  out.acceleration = torch::randn({4, 3});
+  const auto objective = gnn::make_objective(*small_gns());
+  const gnn::ObjectiveValue v = objective->evaluate(out, batch);
+  // Rows 0 and 3 of the output against targets 0 and 2 (row 2 is a boundary node, target 1 is
+  // masked out): the mean over 2 x 3 squared differences.
+  const auto expected = (torch::stack({out.acceleration[0], out.acceleration[3]}) -
+                         torch::stack({batch.target[0], batch.target[2]}))
+                            .pow(2)
+                            .mean();
+  EXPECT_NEAR(v.total.item<double>(), expected.item<double>(), 1e-6);
+  EXPECT_TRUE(v.terms.count("acc"));
+  batch.target = torch::randn({2, 3});
+  expect_message([&] { objective->evaluate(out, batch); }, {"3 fluid rows", "2 targets"});
+}
+
+}  // namespace
