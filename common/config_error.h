@@ -6,12 +6,14 @@
 #include <stdexcept>
 #include <string>
 
+#include "common/exit_codes.h"
+
 namespace common {
 
-class ConfigError : public std::runtime_error {
+class ConfigError : public InputError {
  public:
   ConfigError(const std::string& file, const std::string& pointer, const std::string& message)
-      : std::runtime_error(file + ":" + (pointer.empty() ? "/" : pointer) + ": " + message),
+      : InputError(file + ":" + (pointer.empty() ? "/" : pointer) + ": " + message),
         file_(file),
         pointer_(pointer) {}
   const std::string& file() const { return file_; }

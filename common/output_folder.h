@@ -19,12 +19,14 @@
 #include <string>
 #include <vector>
 
+#include "common/exit_codes.h"
+
 namespace common {
 
 // A user error about an output path (exit code 2, like a config error).
-class OutputPathError : public std::runtime_error {
+class OutputPathError : public InputError {
  public:
-  using std::runtime_error::runtime_error;
+  using InputError::InputError;
 };
 
 // `given` made absolute and lexically normal, without a trailing separator ("runs/new/" ->

@@ -3,6 +3,7 @@
 #include <map>
 #include <numeric>
 
+#include "common/exit_codes.h"
 #include "common/progress.h"
 #include "common/svg_plot.h"
 #include "gnn/data/frame_window.h"
@@ -102,8 +103,8 @@ void run_eval(const EvalOptions& o) {
     const auto& t = d.trajectories[k];
     const int64_t available = t.frames() - 1 - o.from;
     if (o.from < 0 || available < 1)
-      throw std::invalid_argument("--from " + std::to_string(o.from) + ": " + t.source + " has " +
-                                  std::to_string(t.frames()) + " frames");
+      throw common::InputError("--from " + std::to_string(o.from) + ": " + t.source + " has " +
+                               std::to_string(t.frames()) + " frames");
     const int64_t frames = o.frames > 0 ? std::min<int64_t>(o.frames, available) : available;
     scores.push_back(score(*d.checkpoint.simulator, t, d.metadata, o.from, frames));
     const auto& s = scores.back();

@@ -6,6 +6,7 @@
 #include <iostream>
 
 #include "common/config_error.h"
+#include "common/exit_codes.h"
 #include "common/output_folder.h"
 #include "gnn/data/dataset.h"
 #include "gnn/runtime/runtime.h"
@@ -54,18 +55,8 @@ int main(int argc, char** argv) {
       eval.common.log = &std::cerr;
       infer::run_eval(eval);
     }
-  } catch (const gnn::CheckpointError& e) {
-    std::cerr << "spill-infer: checkpoint error: " << e.what() << "\n";
-    return 2;
-  } catch (const gnn::DatasetError& e) {
-    std::cerr << "spill-infer: dataset error: " << e.what() << "\n";
-    return 2;
-  } catch (const common::OutputPathError& e) {
-    std::cerr << "spill-infer: " << e.what() << "\n";
-    return 2;
   } catch (const std::exception& e) {
-    std::cerr << "spill-infer: " << e.what() << "\n";
-    return 1;
+    return common::report_error(std::cerr, "spill-infer", e);
   }
   return 0;
 }

@@ -4,6 +4,7 @@
 #include <numeric>
 #include <sstream>
 
+#include "common/exit_codes.h"
 #include "common/progress.h"
 #include "gnn/eval/rollout.h"
 #include "infer/commands.h"
@@ -19,19 +20,19 @@ void run_rollout(const RolloutOptions& o) {
                               output_policy(o.common, {"timing.json", "metadata.json"}));
   LoadedData d = load_data(o.common);
   if (o.trajectory < 0 || o.trajectory >= int(d.trajectories.size()))
-    throw std::invalid_argument("--trajectory " + std::to_string(o.trajectory) + ": the " +
-                                o.common.split + " split has " +
-                                std::to_string(d.trajectories.size()) + " trajectories");
+    throw common::InputError("--trajectory " + std::to_string(o.trajectory) + ": the " +
+                             o.common.split + " split has " +
+                             std::to_string(d.trajectories.size()) + " trajectories");
   const gnn::Trajectory& t = d.trajectories[size_t(o.trajectory)];
   const int64_t available = t.frames() - 1 - o.from;
   if (o.from < 0 || available < 1)
-    throw std::invalid_argument("--from " + std::to_string(o.from) + ": " + t.source + " has " +
-                                std::to_string(t.frames()) + " frames");
+    throw common::InputError("--from " + std::to_string(o.from) + ": " + t.source + " has " +
+                             std::to_string(t.frames()) + " frames");
   const int64_t frames = o.frames > 0 ? std::min<int64_t>(o.frames, available) : available;
   if (o.frames > available)
-    throw std::invalid_argument("--frames " + std::to_string(o.frames) + ": only " +
-                                std::to_string(available) + " frames follow frame " +
-                                std::to_string(o.from) + " in " + t.source);
+    throw common::InputError("--frames " + std::to_string(o.frames) + ": only " +
+                             std::to_string(available) + " frames follow frame " +
+                             std::to_string(o.from) + " in " + t.source);
 
   std::unique_ptr<common::ProgressReporter> progress;
   if (o.common.log)

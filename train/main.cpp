@@ -7,6 +7,7 @@
 #include <iostream>
 
 #include "common/config_error.h"
+#include "common/exit_codes.h"
 #include "common/output_folder.h"
 #include "gnn/data/dataset.h"
 #include "gnn/runtime/runtime.h"
@@ -48,21 +49,8 @@ int main(int argc, char** argv) {
     const double loss = trainer.run();
     std::cout << "trained to step " << trainer.step() << ", loss " << loss << "; run in "
               << options.out_dir << "\n";
-  } catch (const common::ConfigError& e) {
-    std::cerr << "spill-train: config error: " << e.what() << "\n";
-    return 2;
-  } catch (const gnn::DatasetError& e) {
-    std::cerr << "spill-train: dataset error: " << e.what() << "\n";
-    return 2;
-  } catch (const gnn::CheckpointError& e) {
-    std::cerr << "spill-train: checkpoint error: " << e.what() << "\n";
-    return 2;
-  } catch (const common::OutputPathError& e) {
-    std::cerr << "spill-train: " << e.what() << "\n";
-    return 2;
   } catch (const std::exception& e) {
-    std::cerr << "spill-train: " << e.what() << "\n";
-    return 1;
+    return common::report_error(std::cerr, "spill-train", e);
   }
   return 0;
 }

@@ -12,15 +12,17 @@
 #include <string>
 #include <vector>
 
+#include "common/exit_codes.h"
+
 namespace sph {
 struct RecordedTrajectory;
 }
 
 namespace gnn {
 
-class DatasetError : public std::runtime_error {
+class DatasetError : public common::InputError {
  public:
-  using std::runtime_error::runtime_error;
+  using common::InputError::InputError;
 };
 
 // Particle type codes of the contract.

@@ -1,5 +1,7 @@
 #include "gnn/runtime/runtime.h"
 
+#include "common/exit_codes.h"
+
 #include <dlfcn.h>
 #include <malloc.h>
 #include <omp.h>
@@ -61,13 +63,13 @@ torch::Device parse_device(const std::string& name) {
   try {
     const torch::Device device(name);
     if (device.is_cuda() && !torch::cuda::is_available())
-      throw std::invalid_argument("--device " + name +
-                                  ": no CUDA device is available to this LibTorch build");
+      throw common::InputError("--device " + name +
+                               ": no CUDA device is available to this LibTorch build");
     if (!device.is_cpu() && !device.is_cuda())
-      throw std::invalid_argument("--device " + name + ": expected cpu or cuda[:N]");
+      throw common::InputError("--device " + name + ": expected cpu or cuda[:N]");
     return device;
   } catch (const c10::Error&) {
-    throw std::invalid_argument("--device " + name + ": expected cpu or cuda[:N]");
+    throw common::InputError("--device " + name + ": expected cpu or cuda[:N]");
   }
 }
 

@@ -14,15 +14,16 @@
 #include <stdexcept>
 #include <string>
 
+#include "common/exit_codes.h"
 #include "gnn/data/dataset.h"
 #include "gnn/models/graph_model.h"
 #include "gnn/models/learned_simulator.h"
 
 namespace gnn {
 
-class CheckpointError : public std::runtime_error {
+class CheckpointError : public common::InputError {
  public:
-  using std::runtime_error::runtime_error;
+  using common::InputError::InputError;
 };
 
 struct TrainingState {

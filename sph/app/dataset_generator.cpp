@@ -214,8 +214,8 @@ void assemble_split(const fs::path& file, const std::vector<const Part*>& parts)
 ParameterRange parse_parameter_range(const std::string& text) {
   const auto eq = text.find('='), colon = text.rfind(':');
   auto bad = [&](const std::string& why) {
-    return std::invalid_argument("--vary " + text + ": " + why +
-                                 " (expected /json/pointer=LO:HI, e.g. /flow/speed=1.2:1.8)");
+    return common::InputError("--vary " + text + ": " + why +
+                              " (expected /json/pointer=LO:HI, e.g. /flow/speed=1.2:1.8)");
   };
   if (text.empty() || text[0] != '/' || eq == std::string::npos || colon == std::string::npos ||
       colon < eq)
@@ -235,10 +235,10 @@ ParameterRange parse_parameter_range(const std::string& text) {
 std::array<int, 3> split_counts(int total, const std::array<double, 3>& f) {
   double sum = 0;
   for (double x : f) {
-    if (!(x >= 0)) throw std::invalid_argument("--split fractions must be >= 0");
+    if (!(x >= 0)) throw common::InputError("--split fractions must be >= 0");
     sum += x;
   }
-  if (std::abs(sum - 1) > 1e-6) throw std::invalid_argument("--split fractions must sum to 1");
+  if (std::abs(sum - 1) > 1e-6) throw common::InputError("--split fractions must sum to 1");
   std::array<int, 3> n{};
   for (size_t k = 0; k < 3; ++k) n[k] = int(std::lround(f[k] * total));
   const size_t largest = size_t(std::max_element(f.begin(), f.end()) - f.begin());
@@ -247,8 +247,8 @@ std::array<int, 3> split_counts(int total, const std::array<double, 3>& f) {
     if (f[k] > 0 && n[k] == 0) {
       const size_t donor = size_t(std::max_element(n.begin(), n.end()) - n.begin());
       if (n[donor] <= 1)
-        throw std::invalid_argument("--trajectories " + std::to_string(total) +
-                                    " is too few for a trajectory in every non-empty split");
+        throw common::InputError("--trajectories " + std::to_string(total) +
+                                 " is too few for a trajectory in every non-empty split");
       --n[donor];
       ++n[k];
     }
@@ -256,9 +256,9 @@ std::array<int, 3> split_counts(int total, const std::array<double, 3>& f) {
 }
 
 nlohmann::json generate_dataset(const GenerateOptions& o) {
-  if (o.trajectories < 1) throw std::invalid_argument("--trajectories must be at least 1");
+  if (o.trajectories < 1) throw common::InputError("--trajectories must be at least 1");
   if (o.frames == 1)
-    throw std::invalid_argument("--frames must be at least 2 (velocities need two frames)");
+    throw common::InputError("--frames must be at least 2 (velocities need two frames)");
   const std::array<int, 3> counts = split_counts(o.trajectories, o.split);
   // Everything drawn before anything runs: resuming, or repeating with the same seed, draws the
   // same parameters.

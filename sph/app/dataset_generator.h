@@ -26,7 +26,7 @@ struct ParameterRange {
   std::string pointer;
   double lo = 0, hi = 0;
 };
-// Parses "/pointer=LO:HI"; throws std::invalid_argument with the text on a malformed one.
+// Parses "/pointer=LO:HI"; throws common::InputError with the text on a malformed one.
 ParameterRange parse_parameter_range(const std::string& text);
 
 struct GenerateOptions {
@@ -45,7 +45,7 @@ struct GenerateOptions {
 };
 
 // Trajectories per split: the fractions of `total` rounded, every split with a non-zero fraction
-// getting at least one. Throws std::invalid_argument when that is impossible or the fractions
+// getting at least one. Throws common::InputError when that is impossible or the fractions
 // do not sum to 1.
 std::array<int, 3> split_counts(int total, const std::array<double, 3>& fractions);
 

@@ -17,6 +17,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "common/exit_codes.h"
 #include "common/output_folder.h"
 #include "sph/app/dataset_generator.h"
 #include "sph/app/scene_runner.h"
@@ -152,7 +153,7 @@ int main(int argc, char** argv) {
       std::istringstream split_text(gen_split);
       if (!(split_text >> split[0] >> slash1 >> split[1] >> slash2 >> split[2]) || slash1 != '/' ||
           slash2 != '/' || !split_text.eof())
-        throw std::invalid_argument("--split " + gen_split + ": expected TRAIN/VALID/TEST");
+        throw common::InputError("--split " + gen_split + ": expected TRAIN/VALID/TEST");
       gen.split = split;
       gen.threads = thread_count(gen_threads);
       gen.stop = &g_stop_requested;
@@ -165,7 +166,7 @@ int main(int argc, char** argv) {
       const int n = thread_count(bench_threads);
       if (!compare_solvers.empty()) {
         if (!radii.empty())
-          throw std::invalid_argument(
+          throw common::InputError(
               "--compare takes the scene's radius; change it with --set /particle_radius=R");
         sph::SolverComparison comparison;
         comparison.scene_file = bench_scene;
@@ -196,18 +197,8 @@ int main(int argc, char** argv) {
                 << "\n";
       return 0;
     }
-  } catch (const sph::ConfigError& e) {
-    std::cerr << "error: " << e.what() << "\n";
-    return 2;
-  } catch (const common::OutputPathError& e) {
-    std::cerr << "error: " << e.what() << "\n";
-    return 2;
-  } catch (const sph::RunInterrupted& e) {
-    std::cerr << "\n" << e.what() << "\n";
-    return 130;
   } catch (const std::exception& e) {
-    std::cerr << "\nerror: " << e.what() << "\n";
-    return 1;
+    return common::report_error(std::cerr, "spill-sim", e);
   }
   return 0;
 }

@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 #include <ostream>
 
+#include "common/exit_codes.h"
 #include "sph/core/scene.h"
 #include "sph/core/simulation.h"
 #include "sph/core/simulation_error.h"
@@ -29,9 +30,9 @@ struct RunOptions {
 };
 
 // Thrown when RunOptions::stop was set; the staging folder has been removed.
-class RunInterrupted : public std::runtime_error {
+class RunInterrupted : public common::Interrupted {
  public:
-  using std::runtime_error::runtime_error;
+  using common::Interrupted::Interrupted;
 };
 
 // Returns the summary that stats.json holds. Throws ConfigError / SimulationError / RunInterrupted.

@@ -20,9 +20,9 @@ double forces_entry(const nlohmann::json& run, const char* force) {
 
 nlohmann::json compare_solvers(const SolverComparison& comparison, std::ostream* log) {
   if (comparison.solvers.size() < 2)
-    throw std::invalid_argument(
+    throw common::InputError(
         "--compare needs at least two solvers, comma-separated (e.g. mtdf,dfsph)");
-  if (comparison.repeat < 1) throw std::invalid_argument("--repeat must be at least 1");
+  if (comparison.repeat < 1) throw common::InputError("--repeat must be at least 1");
   // Load every variant before running any, so that a bad solver name fails at once.
   std::vector<LoadedScene> scenes;
   for (const std::string& solver : comparison.solvers) {

@@ -21,7 +21,7 @@ struct SolverComparison {
 
 // Returns {"scene", "solvers", "repeat", "wall_s": {solver: [runs]}, "median_wall_s",
 // "ratio", "mixture_model_s", "surface_tension_s", "results": [median run of each solver]}.
-// Throws ConfigError for an unknown solver or a bad scene, std::invalid_argument for fewer than
+// Throws ConfigError for an unknown solver or a bad scene, common::InputError for fewer than
 // two solvers or no repeat.
 nlohmann::json compare_solvers(const SolverComparison& comparison, std::ostream* log);
 

@@ -59,16 +59,19 @@ TEST(Cli, TrainRollOutAndEvaluateOnATinyDataset) {
   EXPECT_GT(timing["wall_s_per_frame"].get<double>(), 0);
 
   // Bad input: a non-zero exit and no output.
+  // Bad input exits 2 from every executable (one exit-code policy, common/exit_codes.h).
   std::ofstream(dir / "bad.pt") << "garbage";
-  EXPECT_NE(run(infer + " eval --checkpoint " + (dir / "bad.pt").string() + " --data " + data +
+  EXPECT_EQ(run(infer + " eval --checkpoint " + (dir / "bad.pt").string() + " --data " + data +
                 " --out " + (dir / "bad_eval").string()),
-            0);
+            2);
   EXPECT_FALSE(fs::exists(dir / "bad_eval"));
-  EXPECT_NE(run(train + " --out " + (dir / "bad_run").string() + " --set /modle=1"), 0);
+  EXPECT_EQ(run(train + " --out " + (dir / "bad_run").string() + " --set /modle=1"), 2);
+  EXPECT_EQ(run(infer + " rollout" + ckpt + " --device tpu --out " + (dir / "bad_device").string()),
+            2);
   EXPECT_FALSE(fs::exists(dir / "bad_run"));
-  EXPECT_NE(run(infer + " rollout" + ckpt + " --trajectory 0 --from 5 --frames 500 --out " +
+  EXPECT_EQ(run(infer + " rollout" + ckpt + " --trajectory 0 --from 5 --frames 500 --out " +
                 (dir / "bad_rollout").string()),
-            0);
+            2);
   EXPECT_FALSE(fs::exists(dir / "bad_rollout"));
   fs::remove_all(dir);
 }

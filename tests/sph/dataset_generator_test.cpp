@@ -152,10 +152,10 @@ TEST_F(Generate, ResumesWithoutRedoingAndMatchesAnUninterruptedRun) {
 }
 
 TEST(GenerateInput, BadRequestsAreClearErrors) {
-  EXPECT_THROW(parse_parameter_range("/flow/speed=1.2"), std::invalid_argument);
-  EXPECT_THROW(parse_parameter_range("flow/speed=1:2"), std::invalid_argument);
-  EXPECT_THROW(parse_parameter_range("/flow/speed=2:1"), std::invalid_argument);
-  EXPECT_THROW(parse_parameter_range("/flow/speed=a:1"), std::invalid_argument);
+  EXPECT_THROW(parse_parameter_range("/flow/speed=1.2"), common::InputError);
+  EXPECT_THROW(parse_parameter_range("flow/speed=1:2"), common::InputError);
+  EXPECT_THROW(parse_parameter_range("/flow/speed=2:1"), common::InputError);
+  EXPECT_THROW(parse_parameter_range("/flow/speed=a:1"), common::InputError);
   const ParameterRange r = parse_parameter_range("/flow/speed=1.2:1.8");
   EXPECT_EQ(r.pointer, "/flow/speed");
   EXPECT_DOUBLE_EQ(r.lo, 1.2);
@@ -163,8 +163,8 @@ TEST(GenerateInput, BadRequestsAreClearErrors) {
   EXPECT_EQ(split_counts(20, {0.8, 0.1, 0.1}), (std::array<int, 3>{16, 2, 2}));
   EXPECT_EQ(split_counts(3, {0.8, 0.1, 0.1}), (std::array<int, 3>{1, 1, 1}));
   EXPECT_EQ(split_counts(4, {1, 0, 0}), (std::array<int, 3>{4, 0, 0}));
-  EXPECT_THROW(split_counts(2, {0.8, 0.1, 0.1}), std::invalid_argument);
-  EXPECT_THROW(split_counts(10, {0.5, 0.1, 0.1}), std::invalid_argument);
+  EXPECT_THROW(split_counts(2, {0.8, 0.1, 0.1}), common::InputError);
+  EXPECT_THROW(split_counts(10, {0.5, 0.1, 0.1}), common::InputError);
   GenerateOptions o = options("spill_generate_bad");
   o.vary = {parse_parameter_range("/no_such_key=0:1")};
   EXPECT_THROW(generate_dataset(o), ConfigError);

@@ -6,6 +6,7 @@
 #include "sph/solvers/dfsph_solver.h"
 
 #include <gtest/gtest.h>
+#include <sys/wait.h>
 
 #include <cstdlib>
 #include <filesystem>
@@ -179,7 +180,8 @@ TEST(Scene, ExecutableReportsBadSceneAndWritesNothing) {
                           (dir / "bad.json").string() + " --out " + (dir / "out").string() +
                           " 2> " + (dir / "err.txt").string();
   const int status = std::system(cmd.c_str());
-  EXPECT_NE(status, 0);
+  ASSERT_TRUE(WIFEXITED(status));
+  EXPECT_EQ(WEXITSTATUS(status), 2);  // bad input (common/exit_codes.h)
   std::ifstream err(dir / "err.txt");
   const std::string message((std::istreambuf_iterator<char>(err)),
                             std::istreambuf_iterator<char>());

@@ -51,10 +51,10 @@ TEST(SolverComparison, BadRequestsFailBeforeRunning) {
   c.solvers = {"mtdf", "no_such_solver"};
   EXPECT_THROW(compare_solvers(c, nullptr), ConfigError);
   c.solvers = {"mtdf"};
-  EXPECT_THROW(compare_solvers(c, nullptr), std::invalid_argument);
+  EXPECT_THROW(compare_solvers(c, nullptr), common::InputError);
   c.solvers = {"mtdf", "dfsph"};
   c.repeat = 0;
-  EXPECT_THROW(compare_solvers(c, nullptr), std::invalid_argument);
+  EXPECT_THROW(compare_solvers(c, nullptr), common::InputError);
 }
 
 }  // namespace
