@@ -156,23 +156,21 @@ nlohmann::json simulate_part(const GenerateOptions& options, const LoadedScene& 
   // Wall time of simulating the recorded frames (not the warm-up): what a learned simulator
   // that rolls the same frames forward is compared against.
   double recorded_wall_s = 0;
-  for (int frame = 1; frame <= last; ++frame) {
-    if (frame - 1 == first) record();  // the state at the first recorded frame
-    if (options.stop && options.stop->load())
-      throw RunInterrupted("interrupted in trajectory " + std::to_string(index) +
-                           "; finished trajectories are kept in " +
-                           (options.out_dir / "parts").string());
-    const auto frame_start = std::chrono::steady_clock::now();
-    sim.advance_to(double(frame) * frame_dt, frame);
-    if (frame > first) recorded_wall_s += common::seconds_since(frame_start);
-    if (frame > first) record();
-    if (options.log) {
-      std::ostringstream t;
-      t.precision(3);
-      t << std::fixed << "t=" << sim.time() << "s";
-      progress.update(frame, t.str());
-    }
-  }
+  if (first == 0) record();  // the state at the first recorded frame
+  FrameLoop loop;
+  loop.last = last;
+  loop.frame_dt = frame_dt;
+  loop.stop = options.stop;
+  loop.interrupted_note = "trajectory " + std::to_string(index) +
+                          " is not kept; finished trajectories are kept in " +
+                          (options.out_dir / "parts").string();
+  loop.progress = options.log ? &progress : nullptr;
+  run_frames(sim, loop, [&](int frame, const FrameStats&, double simulated_s) {
+    if (frame == first) record();  // after the warm-up
+    if (frame <= first) return;
+    recorded_wall_s += simulated_s;
+    record();
+  });
   writer.close();
   fs::rename(tmp, h5);
   if (options.log) progress.finish(std::to_string(sim.steps()) + " steps");

@@ -26,10 +26,6 @@ namespace fs = std::filesystem;
 
 namespace {
 
-int frame_count(const SceneConfig& s) {
-  return int(std::llround(double(s.end_time) / shortest_decimal(s.output.frame_dt)));
-}
-
 nlohmann::json vec_json(const Vec3& v) {
   return {double(v[0]), double(v[1]), double(v[2])};
 }
@@ -77,14 +73,6 @@ nlohmann::json summary_json(const Simulation& sim, double wall_s, double iterati
     summary["flow"] = {
         {"emitted", flow->emitted()}, {"retired", flow->retired()}, {"fallen", flow->fallen()}};
   return summary;
-}
-
-std::string frame_detail(const Simulation& sim, const FrameStats& f) {
-  std::ostringstream s;
-  s.precision(3);
-  s << "t=" << sim.time() << "s steps=" << f.steps << " it=" << f.iterations_density << "/"
-    << f.iterations_divergence << " err=" << f.density_error_avg * 100 << "%";
-  return s.str();
 }
 
 PlyPoints fluid_points(const Simulation& sim) {
@@ -262,24 +250,21 @@ nlohmann::json run_scene(const LoadedScene& scene, const RunOptions& options) {
   if (save_frame == first) sim.save_state((staging / "state.h5").string());
   common::ProgressReporter progress(options.log ? *options.log : std::cerr, options.terminal,
                                     frames, "simulating " + scene.config.name);
-  const auto t0 = std::chrono::steady_clock::now();
-  double it_density = 0, it_divergence = 0;
-  for (int frame = first + 1; frame <= frames; ++frame) {
-    if (options.stop && options.stop->load())
-      throw RunInterrupted("interrupted at frame " + std::to_string(frame) + "; nothing written");
-    const FrameStats f = sim.advance_to(double(frame) * frame_dt, frame);
-    it_density += f.iterations_density * f.steps;
-    it_divergence += f.iterations_divergence * f.steps;
+  FrameLoop loop;
+  loop.first = first;
+  loop.last = frames;
+  loop.frame_dt = frame_dt;
+  loop.stop = options.stop;
+  loop.interrupted_note = "nothing written";
+  loop.progress = options.log ? &progress : nullptr;
+  const FrameLoopTotals totals = run_frames(sim, loop, [&](int frame, const FrameStats& f, double) {
     frame_list.push_back(frame_json(sim, f));
     record(frame);
     if (frame == save_frame) sim.save_state((staging / "state.h5").string());
-    if (options.log) progress.update(frame, frame_detail(sim, f));
-  }
-  const double wall_s = common::seconds_since(t0);
+  });
   writer.close();
-  const double steps = double(std::max(1L, sim.steps()));
-  nlohmann::json summary =
-      summary_json(sim, wall_s, it_density / steps, it_divergence / steps, options.threads);
+  nlohmann::json summary = summary_json(sim, totals.wall_s, totals.iterations_density,
+                                        totals.iterations_divergence, options.threads);
   write_json(staging / "stats.json", {{"frames", frame_list}, {"summary", summary}});
   if (options.png)
     encode_animation(staging, scene.config.terrain_grid ? "river" : "side", first, 1 / frame_dt,
@@ -300,18 +285,14 @@ nlohmann::json benchmark_scene(const LoadedScene& scene, int threads, std::ostre
   const int frames = frame_count(scene.config);
   common::ProgressReporter progress(log ? *log : std::cerr, false, frames,
                                     "bench " + scene.config.name);
-  double it_density = 0, it_divergence = 0;
-  const auto t0 = std::chrono::steady_clock::now();
-  for (int frame = 1; frame <= frames; ++frame) {
-    const FrameStats f =
-        sim.advance_to(double(frame) * shortest_decimal(scene.config.output.frame_dt), frame);
-    it_density += f.iterations_density * f.steps;
-    it_divergence += f.iterations_divergence * f.steps;
-    if (log) progress.update(frame, frame_detail(sim, f));
-  }
-  const double wall_s = common::seconds_since(t0);
+  FrameLoop loop;
+  loop.last = frames;
+  loop.frame_dt = shortest_decimal(scene.config.output.frame_dt);
+  loop.progress = log ? &progress : nullptr;
+  const FrameLoopTotals totals = run_frames(sim, loop, [](int, const FrameStats&, double) {});
   const double steps = double(std::max(1L, sim.steps()));
-  nlohmann::json j = summary_json(sim, wall_s, it_density / steps, it_divergence / steps, threads);
+  nlohmann::json j = summary_json(sim, totals.wall_s, totals.iterations_density,
+                                  totals.iterations_divergence, threads);
   j["scene"] = scene.config.name;
   j["solver"] = scene.config.solver;
   j["particle_radius"] = shortest_decimal(scene.config.particle_radius);

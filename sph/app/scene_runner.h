@@ -9,7 +9,7 @@
 #include <nlohmann/json.hpp>
 #include <ostream>
 
-#include "common/exit_codes.h"
+#include "sph/app/frame_loop.h"
 #include "sph/core/scene.h"
 #include "sph/core/simulation.h"
 #include "sph/core/simulation_error.h"
@@ -27,12 +27,6 @@ struct RunOptions {
   bool terminal = false;                    // progress as a redrawn bar
   std::string initial_state;  // continue from this saved state (Simulation::load_state)
   double save_state_at = -1;  // save the state at this frame time to out_dir/state.h5 (>= 0)
-};
-
-// Thrown when RunOptions::stop was set; the staging folder has been removed.
-class RunInterrupted : public common::Interrupted {
- public:
-  using common::Interrupted::Interrupted;
 };
 
 // Returns the summary that stats.json holds. Throws ConfigError / SimulationError / RunInterrupted.

@@ -3,6 +3,7 @@
 #include <cassert>
 #include <stdexcept>
 #include <string>
+#include <type_traits>
 
 namespace sph {
 
@@ -32,23 +33,17 @@ void FluidParticles::add(const Vec3& x, const Vec3& v, Real volume, const PhaseM
   oil_fraction.push_back(mix.oil_fraction);
   type.push_back(mix.type);
   id.push_back(n);
+  for_each_array([&](const char* name, const auto& values, bool) {
+    if (values.size() != position.size())
+      throw std::logic_error(std::string("FluidParticles::add does not set ") + name);
+  });
   if (!is_active) return;
   if (active != n) swap_slots(active, n);
   ++active;
 }
 
 void FluidParticles::swap_slots(Index a, Index b) {
-  std::swap(position[a], position[b]);
-  std::swap(velocity[a], velocity[b]);
-  std::swap(acceleration[a], acceleration[b]);
-  std::swap(density[a], density[b]);
-  std::swap(pressure[a], pressure[b]);
-  std::swap(rest_volume[a], rest_volume[b]);
-  std::swap(rest_density[a], rest_density[b]);
-  std::swap(viscosity[a], viscosity[b]);
-  std::swap(oil_fraction[a], oil_fraction[b]);
-  std::swap(type[a], type[b]);
-  std::swap(id[a], id[b]);
+  for_each_array([&](const char*, auto& values, bool) { std::swap(values[a], values[b]); });
 }
 
 Index FluidParticles::find_inactive(Index wanted) const {
@@ -76,21 +71,10 @@ void FluidParticles::deactivate(Index slot) {
 
 void FluidParticles::permute(const std::vector<Index>& order) {
   assert(order.size() == active);
-  std::vector<Vec3> v3;
-  std::vector<Real> r;
-  permute_array(position, order, v3);
-  permute_array(velocity, order, v3);
-  permute_array(acceleration, order, v3);
-  permute_array(density, order, r);
-  permute_array(pressure, order, r);
-  permute_array(rest_volume, order, r);
-  permute_array(rest_density, order, r);
-  permute_array(viscosity, order, r);
-  permute_array(oil_fraction, order, r);
-  std::vector<ParticleType> t;
-  permute_array(type, order, t);
-  std::vector<Index> ids;
-  permute_array(id, order, ids);
+  for_each_array([&](const char*, auto& values, bool) {
+    std::remove_reference_t<decltype(values)> scratch;
+    permute_array(values, order, scratch);
+  });
 }
 
 }  // namespace sph

@@ -36,6 +36,18 @@ struct FluidParticles {
   std::vector<Index> id;  // fixed identity in [0, size())
   Index active = 0;       // number of active particles (they come first)
 
+  // The particle record: every per-particle array, each named once. Swapping, reordering,
+  // saving and loading all walk this list, so a new array is one line here (plus its value in
+  // add()). `saved`: part of a saved state (the acceleration is recomputed every step).
+  template <class Visit>
+  void for_each_array(Visit&& visit) {
+    visit_arrays(*this, visit);
+  }
+  template <class Visit>
+  void for_each_array(Visit&& visit) const {
+    visit_arrays(*this, visit);
+  }
+
   Index size() const { return static_cast<Index>(position.size()); }
   // (rho_i + rho_j) / 2 in kg/m^3: pair terms divided by it are equal and opposite.
   Real pair_mean_density(Index i, Index j) const {
@@ -59,6 +71,22 @@ struct FluidParticles {
   // Reorders every array so that new index k holds old particle order[k]. `order` must be a
   // permutation of [0, active_count()) (inactive particles keep their place).
   void permute(const std::vector<Index>& order);
+
+ private:
+  template <class Self, class Visit>
+  static void visit_arrays(Self& p, Visit& visit) {
+    visit("position", p.position, true);
+    visit("velocity", p.velocity, true);
+    visit("acceleration", p.acceleration, false);
+    visit("density", p.density, true);
+    visit("pressure", p.pressure, true);
+    visit("rest_volume", p.rest_volume, true);
+    visit("rest_density", p.rest_density, true);
+    visit("viscosity", p.viscosity, true);
+    visit("oil_fraction", p.oil_fraction, true);
+    visit("type", p.type, true);
+    visit("id", p.id, true);
+  }
 };
 
 // Applies a permutation to one per-particle array: out[k] = in[order[k]] for k < order.size().

@@ -20,6 +20,30 @@ hid_t real_type() {
   return sizeof(Real) == 4 ? H5T_NATIVE_FLOAT : H5T_NATIVE_DOUBLE;
 }
 
+// How each kind of per-particle array is stored: its HDF5 memory type and its values per
+// particle (the particle record, FluidParticles::for_each_array, names the arrays).
+struct StoredAs {
+  hid_t type;
+  hsize_t columns;
+};
+StoredAs stored_as(const std::vector<Vec3>&) {
+  return {real_type(), 3};
+}
+StoredAs stored_as(const std::vector<Real>&) {
+  return {real_type(), 1};
+}
+StoredAs stored_as(const std::vector<ParticleType>&) {
+  static_assert(sizeof(ParticleType) == sizeof(std::int32_t));
+  return {H5T_NATIVE_INT32, 1};
+}
+StoredAs stored_as(const std::vector<Index>&) {
+  static_assert(sizeof(Index) == sizeof(std::uint32_t));
+  return {H5T_NATIVE_UINT32, 1};
+}
+std::vector<hsize_t> dims_of(hsize_t n, const StoredAs& s) {
+  return s.columns == 1 ? std::vector<hsize_t>{n} : std::vector<hsize_t>{n, s.columns};
+}
+
 void write_array(hid_t file, const std::string& path, const char* name, hid_t type,
                  const std::vector<hsize_t>& dims, const void* data) {
   const hid_t space = H5Screate_simple(int(dims.size()), dims.data(), nullptr);
@@ -77,18 +101,11 @@ void Simulation::save_state(const std::string& file) const {
   const FluidParticles& p = fluid_;
   const hsize_t n = p.size();
   try {
-    write_array(f, file, "position", real_type(), {n, 3}, p.position.data());
-    write_array(f, file, "velocity", real_type(), {n, 3}, p.velocity.data());
-    write_array(f, file, "density", real_type(), {n}, p.density.data());
-    write_array(f, file, "pressure", real_type(), {n}, p.pressure.data());
-    write_array(f, file, "rest_volume", real_type(), {n}, p.rest_volume.data());
-    write_array(f, file, "rest_density", real_type(), {n}, p.rest_density.data());
-    write_array(f, file, "viscosity", real_type(), {n}, p.viscosity.data());
-    write_array(f, file, "oil_fraction", real_type(), {n}, p.oil_fraction.data());
-    std::vector<std::int32_t> type(p.type.size());
-    for (size_t i = 0; i < p.type.size(); ++i) type[i] = std::int32_t(p.type[i]);
-    write_array(f, file, "type", H5T_NATIVE_INT32, {n}, type.data());
-    write_array(f, file, "id", H5T_NATIVE_UINT32, {n}, p.id.data());
+    p.for_each_array([&](const char* name, const auto& values, bool saved) {
+      if (!saved) return;
+      const StoredAs as = stored_as(values);
+      write_array(f, file, name, as.type, dims_of(n, as), values.data());
+    });
     const std::uint32_t active = p.active;
     write_array(f, file, "active_count", H5T_NATIVE_UINT32, {1}, &active);
     write_array(f, file, "time", H5T_NATIVE_DOUBLE, {1}, &time_);
@@ -124,18 +141,11 @@ void Simulation::load_state(const std::string& file) {
       throw ConfigError(file, "boundary_particles",
                         "expected " + std::to_string(boundary_.size()) + " (this scene), got " +
                             std::to_string(boundary[0]) + ": the state belongs to another scene");
-    read_array(f, file, "position", real_type(), {n, 3}, p.position, 3);
-    read_array(f, file, "velocity", real_type(), {n, 3}, p.velocity, 3);
-    read_array(f, file, "density", real_type(), {n}, p.density);
-    read_array(f, file, "pressure", real_type(), {n}, p.pressure);
-    read_array(f, file, "rest_volume", real_type(), {n}, p.rest_volume);
-    read_array(f, file, "rest_density", real_type(), {n}, p.rest_density);
-    read_array(f, file, "viscosity", real_type(), {n}, p.viscosity);
-    read_array(f, file, "oil_fraction", real_type(), {n}, p.oil_fraction);
-    std::vector<std::int32_t> type;
-    read_array(f, file, "type", H5T_NATIVE_INT32, {n}, type);
-    for (size_t i = 0; i < type.size(); ++i) p.type[i] = ParticleType(type[i]);
-    read_array(f, file, "id", H5T_NATIVE_UINT32, {n}, p.id);
+    p.for_each_array([&](const char* name, auto& values, bool saved) {
+      if (!saved) return;
+      const StoredAs as = stored_as(values);
+      read_array(f, file, name, as.type, dims_of(n, as), values, size_t(as.columns));
+    });
     std::vector<std::uint32_t> active;
     read_array(f, file, "active_count", H5T_NATIVE_UINT32, {1}, active);
     if (active[0] > n) throw ConfigError(file, "active_count", "larger than the particle count");
