@@ -1,7 +1,7 @@
 #pragma once
 // Errors of user input: a scene or config file that is missing, malformed or out of range.
 // The message always names the file and the JSON pointer of the offending value, e.g.
-//   configs/scenes/dam_break.json:/fluid/viscosity: expected >= 0, got -0.1
+//   configs/scenes/dam_break.json:/materials/water/viscosity: expected >= 0, got -0.1
 
 #include <stdexcept>
 #include <string>
