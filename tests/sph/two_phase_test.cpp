@@ -149,8 +149,10 @@ TEST(TwoPhase, MixtureConservesMassAndBoundsFractions) {
 // Zero gravity: a 2:1:1 block of water pulls itself toward a sphere under surface tension: the
 // ratio of its principal radii of gyration, 2 at the start, approaches 1 (a sphere of 250
 // particles stays a little lumpy and oscillates, so the bar is the mean over the last 3 s of
-// 6 s). The same block with the force on every particle (surface_only off) is reported for
-// comparison: the bulk's cohesion then holds the lattice together and it hardly rounds.
+// 6 s). The same block with the force on every particle (surface_only off) is the control: the
+// bulk's cohesion then holds the lattice together and it hardly rounds, so its ratio must stay
+// at least 0.4 above the surface-only one (measured 1.90 against 1.23): the rounding comes from
+// applying the force where the paper does, not from anything both runs share.
 // With the reference oil's 4x viscosity the block jams near a ratio of 1.6.
 TEST(TwoPhase, SurfaceTensionRoundsABlockInZeroGravity) {
   auto late_mean_ratio = [](bool surface_only, double* ratio0) {
@@ -178,6 +180,8 @@ TEST(TwoPhase, SurfaceTensionRoundsABlockInZeroGravity) {
             << " (force on surface particles), " << all << " (on all particles)\n";
   EXPECT_NEAR(ratio0, 2.0, 0.1);
   EXPECT_LT(surface, 1.3) << "ratio of radii of gyration " << ratio0 << " -> " << surface;
+  EXPECT_GT(all - surface, 0.4) << "force on all particles " << all << ", on the surface "
+                                << surface;
 }
 
 TEST(TwoPhase, OilCubeInWaterAtRestDoesNotMix) {
