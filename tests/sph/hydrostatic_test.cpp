@@ -1,5 +1,5 @@
 // Hydrostatic validation: water at rest in a box. After settling, the pressure at depth d is
-// rho g d (within 3 %) and the solver's mean density error is below its threshold.
+// rho g d (within 3 %) and the solver's mean density error is at most the scene's tolerance.
 
 #include <gtest/gtest.h>
 
@@ -9,13 +9,15 @@
 
 #include "sph/core/scene.h"
 #include "sph/core/simulation.h"
+#include "sph/solvers/dfsph_solver.h"
 
 namespace sph {
 namespace {
 
 struct HydrostaticResult {
   double worst_relative_error = 0;  // over depth bins in the lower 80 % of the column
-  double density_error_avg = 0;
+  double density_error_avg = 0;     // relative, mean over the last frame's steps
+  double density_tolerance = 0;     // the scene's /dfsph/density_error_percent, relative
   double max_speed = 0;
   std::string table;
 };
@@ -89,6 +91,8 @@ HydrostaticResult run_hydrostatic(const std::string& scene_name,
                     " Pa, hydrostatic " + std::to_string(expected) + " Pa\n";
   }
   result.density_error_avg = last.density_error_avg;
+  result.density_tolerance =
+      double(scene.config.settings<DfsphConfig>("dfsph").density_error_percent) * 0.01;
   return result;
 }
 
@@ -96,7 +100,14 @@ TEST(Hydrostatic, DfsphPressureGrowsAsRhoGDepth) {
   const HydrostaticResult r = run_hydrostatic("hydrostatic", {});
   std::cout << r.table << "worst relative error " << r.worst_relative_error << "\n";
   EXPECT_LT(r.worst_relative_error, 0.03) << r.table;
-  EXPECT_LT(r.density_error_avg, 0.0005);  // the scene's threshold, 0.05 %
+  // The scene's own tolerance with a factor of 1: each constant-density solve stops only once its
+  // mean density error is at or below the tolerance (or at max_iterations), so the frame's mean
+  // over its steps exceeds it only when a solve ran out of iterations or stopped on another
+  // measure than the one configured. Measured 0.0099 % against 0.01 % (with the scene's cap at
+  // the default 100 iterations the solves stopped short, at 0.0104 %).
+  std::cout << "mean density error of the last frame " << r.density_error_avg * 100
+            << " %, the scene's tolerance " << r.density_tolerance * 100 << " %\n";
+  EXPECT_LE(r.density_error_avg, 1.0 * r.density_tolerance);
   EXPECT_LT(r.max_speed, 0.05) << "the water should be at rest";
 }
 
