@@ -47,11 +47,11 @@ int main(int argc, char** argv) {
   CLI11_PARSE(app, argc, argv);
   try {
     if (r->parsed()) {
-      gnn::configure_runtime({rollout.common.threads, 0});
+      gnn::configure_runtime(gnn::inference_runtime(rollout.common.threads));
       rollout.common.log = &std::cerr;
       infer::run_rollout(rollout);
     } else {
-      gnn::configure_runtime({eval.common.threads, 0});
+      gnn::configure_runtime(gnn::inference_runtime(eval.common.threads));
       eval.common.log = &std::cerr;
       infer::run_eval(eval);
     }

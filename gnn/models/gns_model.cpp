@@ -79,8 +79,7 @@ GnsModel::Latents GnsModel::process(Latents x, const GraphInput& g,
   }
   for (size_t k = 0; k < edge_mlp_.size(); ++k) {
     if (in_place) {
-      // Inference: every product in row chunks side by side (see edge_update_in_chunks).
-      SingleThreadedBlas blas;
+      // Inference: every product in row chunks (see edge_update_in_chunks).
       auto projected = rows_times_transposed(v, receiver_sender_[k]->weight);  // [n, 2L]
       auto e_update = edge_update_in_chunks(k, e, projected, order);
       auto aggregated = sum_to_receivers(e_update, order, g.nodes());
@@ -177,13 +176,25 @@ void finish_mlp_chunk(MlpImpl& mlp, torch::Tensor x, torch::Tensor y, float* out
   }
 }
 
+// Runs body(first, last) over chunks [0, chunks): side by side on the LibTorch threads when BLAS
+// is single-threaded (the runtime's inference setting), else on this thread, each product then
+// using BLAS's own threads (products issued from several threads into a multi-threaded BLAS
+// would fight over the cores).
+template <class Body>
+void for_chunks(int64_t chunks, const Body& body) {
+  if (blas_threads() <= 1)
+    at::parallel_for(0, chunks, 1, body);
+  else
+    body(int64_t(0), chunks);
+}
+
 }  // namespace
 
 torch::Tensor GnsModel::rows_times_transposed(const torch::Tensor& x_in, const torch::Tensor& w) {
   auto x = x_in.contiguous();
   auto out = torch::empty({x.size(0), w.size(0)}, x.options());
   const int64_t rows = x.size(0);
-  at::parallel_for(0, (rows + kChunk - 1) / kChunk, 1, [&](int64_t first, int64_t last) {
+  for_chunks((rows + kChunk - 1) / kChunk, [&](int64_t first, int64_t last) {
     torch::NoGradGuard no_grad;
     for (int64_t c = first; c < last; ++c) {
       auto o = out.slice(0, c * kChunk, std::min(rows, (c + 1) * kChunk));
@@ -197,7 +208,7 @@ void GnsModel::node_update_in_chunks(size_t k, torch::Tensor& v, const torch::Te
   const int64_t L = config_.latent, n = v.size(0);
   Mlp& mlp = node_mlp_[k];
   auto agg = aggregated.contiguous();
-  at::parallel_for(0, (n + kChunk - 1) / kChunk, 1, [&](int64_t first, int64_t last) {
+  for_chunks((n + kChunk - 1) / kChunk, [&](int64_t first, int64_t last) {
     torch::NoGradGuard no_grad;
     auto a = torch::empty({kChunk, L}), b = torch::empty({kChunk, L});
     for (int64_t c = first; c < last; ++c) {
@@ -226,11 +237,11 @@ torch::Tensor GnsModel::edge_update_in_chunks(size_t k, const torch::Tensor& e,
   auto edges = e.contiguous();
   auto out = torch::empty_like(e);
   // Chunks run side by side on the LibTorch threads, each op inside single-threaded (LibTorch
-  // runs nested ops serially) and BLAS held to one thread, so the cores never wait on each
-  // other's small operations. Matrix products write into per-thread buffers; bias, ReLU and
-  // LayerNorm are fused into single passes.
+  // runs nested ops serially) and BLAS on one thread (spill-infer's runtime setting), so the
+  // cores never wait on each other's small operations. Matrix products write into per-thread
+  // buffers; bias, ReLU and LayerNorm are fused into single passes.
   const int64_t chunks = (E + kChunk - 1) / kChunk;
-  at::parallel_for(0, chunks, 1, [&](int64_t first, int64_t last) {
+  for_chunks(chunks, [&](int64_t first, int64_t last) {
     torch::NoGradGuard no_grad;  // grad mode is per thread
     auto a = torch::empty({kChunk, L}), b = torch::empty({kChunk, L});
     for (int64_t c = first; c < last; ++c) {

@@ -23,34 +23,16 @@ void configure_runtime(const RuntimeSettings& settings) {
   torch::set_num_threads(threads);
   omp_set_num_threads(threads);
   // Looked up at run time: the BLAS behind LibTorch is chosen by Debian's alternatives and may
-  // not be OpenBLAS at all.
+  // not be OpenBLAS at all. Set here once; library code only reads it (blas_threads()).
   using SetThreads = void (*)(int);
   if (auto set_blas = reinterpret_cast<SetThreads>(dlsym(RTLD_DEFAULT, "openblas_set_num_threads")))
     set_blas(settings.blas_threads > 0 ? settings.blas_threads : threads);
 }
 
-namespace {
-using SetThreads = void (*)(int);
-using GetThreads = int (*)();
-SetThreads blas_setter() {
-  return reinterpret_cast<SetThreads>(dlsym(RTLD_DEFAULT, "openblas_set_num_threads"));
-}
-GetThreads blas_getter() {
-  return reinterpret_cast<GetThreads>(dlsym(RTLD_DEFAULT, "openblas_get_num_threads"));
-}
-}  // namespace
-
-SingleThreadedBlas::SingleThreadedBlas() {
-  auto get = blas_getter();
-  auto set = blas_setter();
-  if (!get || !set) return;
-  previous_ = get();
-  if (previous_ != 1) set(1);
-}
-
-SingleThreadedBlas::~SingleThreadedBlas() {
-  if (previous_ > 1)
-    if (auto set = blas_setter()) set(previous_);
+int blas_threads() {
+  using GetThreads = int (*)();
+  auto get = reinterpret_cast<GetThreads>(dlsym(RTLD_DEFAULT, "openblas_get_num_threads"));
+  return get ? get() : 1;
 }
 
 double peak_memory_mib() {

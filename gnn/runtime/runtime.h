@@ -19,20 +19,18 @@ struct RuntimeSettings {
   int blas_threads = 0;  // OpenBLAS threads; 0 = the same as `threads`
 };
 
+// Inference (spill-infer) runs the model's matrix products in row chunks side by side on the
+// LibTorch threads, each product on one BLAS thread: the settings for that.
+inline RuntimeSettings inference_runtime(int threads) {
+  return {threads, 1};
+}
+
 void configure_runtime(const RuntimeSettings& settings);
 
-// Holds OpenBLAS to one thread for its lifetime (restoring the previous count after): for
-// matrix products issued from several threads at once, each must run in its caller's thread.
-class SingleThreadedBlas {
- public:
-  SingleThreadedBlas();
-  ~SingleThreadedBlas();
-  SingleThreadedBlas(const SingleThreadedBlas&) = delete;
-  SingleThreadedBlas& operator=(const SingleThreadedBlas&) = delete;
-
- private:
-  int previous_ = 0;
-};
+// OpenBLAS's thread count as configure_runtime set it (1 when the BLAS is not OpenBLAS: the
+// reference BLAS is single-threaded). Read, never changed, by library code: the fused inference
+// path runs its chunks side by side only when each matrix product stays on its caller's thread.
+int blas_threads();
 
 // The device named by a --device option ("cpu", "cuda", "cuda:1"); throws std::invalid_argument
 // naming the option for a malformed name or a device this LibTorch or machine does not have.

@@ -123,6 +123,8 @@ int main(int argc, char** argv) {
   out["model"] = model->config();
 
   nlohmann::json forward = nlohmann::json::array();
+  // Forward timings as spill-infer runs them (BLAS on one thread, chunks side by side).
+  gnn::configure_runtime(gnn::inference_runtime(threads));
   for (int64_t size : sizes) {
     auto g = lattice_graph(size, model->radius());
     torch::NoGradGuard no_grad;
@@ -140,6 +142,7 @@ int main(int argc, char** argv) {
     std::cerr << "forward " << g.nodes() << " particles: " << forward_s << " s\n";
   }
   out["forward"] = forward;
+  gnn::configure_runtime({threads, blas_threads});  // training as spill-train runs it
 
   if (!skip_training) {
     auto g = lattice_graph(train_particles, model->radius());

@@ -99,6 +99,29 @@ TEST(ModelContract, DeviceOptionMovesTheModelAndNamesAMissingDevice) {
                                        {"--device cuda", "no CUDA device"});
 }
 
+// The fused inference path never changes the BLAS thread count (the runtime sets it once): with
+// one BLAS thread its chunks run side by side, with more they run in turn on BLAS's threads; both
+// equal the autograd path.
+TEST(ModelContract, FusedInferenceLeavesTheBlasThreadsAloneAndAgreesEitherWay) {
+  torch::manual_seed(6);
+  const auto g = random_graph(400, 0.25);
+  ASSERT_GT(g.edges(), 3000);  // several chunks
+  auto model = small_gns();
+  const auto reference = model->acceleration(g);
+  const int before = gnn::blas_threads();
+  for (const int blas : {1, 2}) {
+    SCOPED_TRACE("BLAS threads " + std::to_string(blas));
+    gnn::configure_runtime({1, blas});
+    if (gnn::blas_threads() != blas) GTEST_SKIP() << "the BLAS in use is not OpenBLAS";
+    torch::NoGradGuard no_grad;
+    const auto fused = model->acceleration(g);
+    EXPECT_EQ(gnn::blas_threads(), blas);
+    EXPECT_TRUE(torch::allclose(reference, fused, 1e-4, 1e-5))
+        << (reference - fused).abs().max().item<float>();
+  }
+  gnn::configure_runtime({1, before});
+}
+
 TEST(TrainingObjective, AccelerationMseIsTheMaskedMeanSquareOverFluidRows) {
   torch::manual_seed(5);
   gnn::TrainingBatch batch;
