@@ -1,6 +1,7 @@
 #pragma once
-// Line plots as SVG (loss curves, error against horizon): no plotting library needed, and a
-// browser or the README shows them directly.
+// Line plots as SVG (loss curves, error against horizon, spill metrics over time): no plotting
+// library needed, and a browser or the README shows them directly. The one plotter of the
+// project: every figure is panels of line series.
 
 #include <string>
 #include <vector>
@@ -12,7 +13,17 @@ struct PlotSeries {
   std::vector<double> x, y;
 };
 
-// Writes the plot atomically; non-positive values are skipped on a log axis.
+struct PlotPanel {
+  std::string x_label, y_label;
+  std::vector<PlotSeries> series;
+  bool log_y = false;  // non-positive values are skipped on a log axis
+};
+
+// Panels stacked under one title, written atomically (a temporary file renamed into place).
+void write_panels(const std::string& path, const std::string& title,
+                  const std::vector<PlotPanel>& panels);
+
+// One panel.
 void write_line_plot(const std::string& path, const std::string& title, const std::string& x_label,
                      const std::string& y_label, const std::vector<PlotSeries>& series, bool log_y);
 

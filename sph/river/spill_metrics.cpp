@@ -1,4 +1,6 @@
 #include "sph/river/spill_metrics.h"
+
+#include "common/svg_plot.h"
 #include "sph/core/simulation_error.h"
 
 #include <algorithm>
@@ -114,57 +116,26 @@ nlohmann::json SpillMetrics::to_json() const {
 void write_spill_plot(const std::string& path, const std::vector<SpillFrame>& frames,
                       const std::string& title) {
   // Three panels over a shared time axis.
-  struct Series {
-    const char* label;
-    const char* colour;
-    double SpillFrame::*value;
-  };
-  struct Panel {
-    const char* title;
-    std::vector<Series> series;
-  };
-  const std::vector<Panel> panels = {
-      {"slick area (m^2)", {{"area", "#1f3a93", &SpillFrame::slick_area_m2}}},
-      {"leading edge downstream of the leak (m)",
-       {{"front", "#c0392b", &SpillFrame::front_distance_m}}},
-      {"bank oiled (m)",
-       {{"left bank", "#27ae60", &SpillFrame::left_bank_m},
-        {"right bank", "#8e44ad", &SpillFrame::right_bank_m}}}};
-  const double w = 640, panel_h = 170, left = 70, right = 20, top = 40, gap = 40;
-  const double height = top + double(panels.size()) * (panel_h + gap);
-  const double t_max = frames.empty() ? 1 : std::max(frames.back().t, 1e-9);
-  std::ostringstream svg;
-  svg << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" << w << "\" height=\"" << height
-      << "\" font-family=\"sans-serif\" font-size=\"12\">\n"
-      << "<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n"
-      << "<text x=\"" << left << "\" y=\"22\" font-size=\"15\">" << title << "</text>\n";
-  for (size_t k = 0; k < panels.size(); ++k) {
-    const double y0 = top + double(k) * (panel_h + gap) + 10, x0 = left, pw = w - left - right;
-    double v_max = 0;
-    for (const auto& s : panels[k].series)
-      for (const auto& f : frames) v_max = std::max(v_max, f.*(s.value));
-    if (v_max <= 0) v_max = 1;
-    svg << "<text x=\"" << x0 << "\" y=\"" << y0 - 4 << "\">" << panels[k].title << "</text>\n"
-        << "<rect x=\"" << x0 << "\" y=\"" << y0 << "\" width=\"" << pw << "\" height=\"" << panel_h
-        << "\" fill=\"none\" stroke=\"#999\"/>\n"
-        << "<text x=\"" << x0 - 6 << "\" y=\"" << y0 + 10 << "\" text-anchor=\"end\">" << v_max
-        << "</text>\n<text x=\"" << x0 - 6 << "\" y=\"" << y0 + panel_h
-        << "\" text-anchor=\"end\">0</text>\n<text x=\"" << x0 + pw << "\" y=\""
-        << y0 + panel_h + 14 << "\" text-anchor=\"end\">t = " << t_max << " s</text>\n";
-    double legend_x = x0 + 8;
-    for (const auto& s : panels[k].series) {
-      svg << "<polyline fill=\"none\" stroke=\"" << s.colour << "\" stroke-width=\"2\" points=\"";
-      for (const auto& f : frames)
-        svg << x0 + pw * f.t / t_max << "," << y0 + panel_h * (1 - f.*(s.value) / v_max) << " ";
-      svg << "\"/>\n<text x=\"" << legend_x << "\" y=\"" << y0 + 16 << "\" fill=\"" << s.colour
-          << "\">" << s.label << "</text>\n";
-      legend_x += 90;
+  auto series = [&](const char* name, double SpillFrame::*value) {
+    common::PlotSeries s{name, {}, {}};
+    for (const auto& f : frames) {
+      s.x.push_back(f.t);
+      s.y.push_back(f.*value);
     }
-  }
-  svg << "</svg>\n";
-  std::ofstream out(path);
-  out << svg.str();
-  if (!out) throw SimulationError("cannot write " + path);
+    return s;
+  };
+  common::write_panels(
+      path, title,
+      {{"t (s)", "slick area (m^2)", {series("area", &SpillFrame::slick_area_m2)}, false},
+       {"t (s)",
+        "leading edge downstream of the leak (m)",
+        {series("front", &SpillFrame::front_distance_m)},
+        false},
+       {"t (s)",
+        "bank oiled (m)",
+        {series("left bank", &SpillFrame::left_bank_m),
+         series("right bank", &SpillFrame::right_bank_m)},
+        false}});
 }
 
 }  // namespace sph
