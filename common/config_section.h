@@ -15,17 +15,7 @@
 
 namespace common {
 
-namespace detail {
-template <class T, class = void>
-struct has_check : std::false_type {};
-template <class T>
-struct has_check<T, std::void_t<decltype(std::declval<const T&>().check(
-                        std::declval<const std::string&>(), std::declval<const std::string&>()))>>
-    : std::true_type {};
-}  // namespace detail
-
-// A section of type T. If T has `void check(const std::string& file, const std::string& pointer)
-// const`, it runs after reading: the section's own cross-field checks, next to its parameters.
+// A section of type T (its check(), if it has one, runs after reading, as for any config struct).
 template <class T>
 class TypedConfigSection final : public ConfigSection {
  public:
@@ -33,7 +23,6 @@ class TypedConfigSection final : public ConfigSection {
 
   void read(const nlohmann::json& j, const std::string& file, const std::string& pointer) override {
     JsonReader::read_struct(j, file, pointer, value);
-    if constexpr (detail::has_check<T>::value) value.check(file, pointer);
   }
   nlohmann::json write() const override { return JsonWriter::write_struct(value); }
   std::string document(const std::string& pointer) const override {

@@ -41,6 +41,15 @@ template <class T, class V>
 struct has_describe<T, V, std::void_t<decltype(std::declval<T&>().describe(std::declval<V&>()))>>
     : std::true_type {};
 
+// A config struct may declare `void check(const std::string& file, const std::string& pointer)
+// const`: its own cross-field checks, next to its parameters, run right after it is read.
+template <class T, class = void>
+struct has_check : std::false_type {};
+template <class T>
+struct has_check<T, std::void_t<decltype(std::declval<const T&>().check(
+                        std::declval<const std::string&>(), std::declval<const std::string&>()))>>
+    : std::true_type {};
+
 inline std::string json_type_name(const nlohmann::json& j) {
   if (j.is_number_integer()) return "an integer";
   if (j.is_number()) return "a number";
@@ -102,6 +111,7 @@ class JsonReader {
     JsonReader r(j, file, pointer);
     value.describe(r);
     r.finish();
+    if constexpr (detail::has_check<T>::value) value.check(file, pointer);
   }
 
   [[noreturn]] void fail(const std::string& ptr, const std::string& msg) const {

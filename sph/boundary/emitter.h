@@ -8,8 +8,8 @@
 
 #include <vector>
 
+#include "sph/boundary/boundary_configs.h"
 #include "sph/core/particle_set.h"
-#include "sph/core/scene.h"
 
 namespace sph {
 

@@ -3,6 +3,7 @@
 // in a describe() list (name, unit, default, range, description); loading, the resolved copy in
 // metadata.json and docs/scene_reference.md all come from those lists.
 
+#include <cmath>
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <optional>
@@ -10,8 +11,10 @@
 #include <vector>
 
 #include "common/config_section.h"
+#include "sph/boundary/boundary_configs.h"
 #include "sph/core/config.h"
 #include "sph/core/types.h"
+#include "sph/river/river_configs.h"
 #include "sph/river/terrain.h"
 
 namespace sph {
@@ -30,6 +33,12 @@ struct TimeStepConfig {
                 .at_most(10));
     v.field("dt_min", dt_min, param("s", "Smallest time step").positive());
     v.field("dt_max", dt_max, param("s", "Largest time step").positive());
+  }
+  void check(const std::string& file, const std::string& pointer) const {
+    if (dt_min > dt_max)
+      throw ConfigError(
+          file, pointer + "/dt_min",
+          "expected <= dt_max (" + std::to_string(dt_max) + "), got " + std::to_string(dt_min));
   }
 };
 
@@ -67,165 +76,11 @@ struct FractionsConfig {
     v.field("water", water, param("", "Volume fraction of water").non_negative().at_most(1));
     v.field("oil", oil, param("", "Volume fraction of oil").non_negative().at_most(1));
   }
-};
-
-struct BoundaryConfig {
-  Real friction = 0;
-  template <class V>
-  void describe(V& v) {
-    v.field("friction", friction,
-            param("m^2/s", "Kinematic viscosity between fluid and boundary (0: free slip)")
-                .non_negative());
-  }
-};
-
-struct BoxConfig {
-  Vec3 min = Vec3::Zero();
-  Vec3 max = Vec3::Zero();
-  std::string fluid_side = "inside";
-  bool open_top = false;
-  template <class V>
-  void describe(V& v) {
-    v.field("min", min, param("m", "Lower corner").require());
-    v.field("max", max, param("m", "Upper corner").require());
-    v.field("fluid_side", fluid_side,
-            param("", "inside: a tank holding fluid; outside: an obstacle in the fluid")
-                .one_of({"inside", "outside"}));
-    v.field("open_top", open_top, param("", "Leave out the top face (a tank without a lid)"));
-  }
-};
-
-// Terrain given as a regular grid of heights z(x, y): heights[iy][ix] at
-// (origin.x + ix * cell_size, origin.y + iy * cell_size).
-struct HeightFieldConfig {
-  Vec3 origin = Vec3::Zero();
-  Real cell_size = 0;
-  std::vector<std::vector<Real>> heights;
-  template <class V>
-  void describe(V& v) {
-    v.field("origin", origin, param("m", "Position of heights[0][0] (z is ignored)").require());
-    v.field("cell_size", cell_size, param("m", "Grid spacing").positive().require());
-    v.field("heights", heights,
-            param("m", "Rows of heights, heights[iy][ix]; at least 2 x 2").require());
-  }
-};
-
-// The built-in river generator (sph/river_generator.h): water flows along +x, its surface is
-// z = 0, and the reach runs straight, bends, narrows and widens.
-struct RiverGeneratorConfig {
-  int seed = 1;
-  Real length = 8;
-  Real width = 2;
-  Real depth = Real(0.3);
-  Real bank_height = Real(0.25);
-  Real bank_slope = 1;
-  // Mild enough for a subcritical flow at 1.5 m/s and 0.3 m depth (Froude number 0.87): a
-  // narrowing to 0.7 choked it, and the water backed up behind it.
-  Real bend_amplitude = Real(0.4);
-  Real narrowing = Real(0.85);
-  Real widening = Real(1.25);
-  Real bed_roughness = Real(0.03);
-  Real floodplain = Real(0.2);
-  Real cell_size = Real(0.05);
-  template <class V>
-  void describe(V& v) {
-    v.field("seed", seed, param("", "Seed of the bed roughness").at_least(0));
-    v.field("length", length, param("m", "Length of the reach along +x").positive());
-    v.field("width", width, param("m", "Width of the channel at the water surface").positive());
-    v.field("depth", depth, param("m", "Depth of the flat bed below the surface").positive());
-    v.field("bank_height", bank_height,
-            param("m", "Height of the bank tops above the surface").positive());
-    v.field("bank_slope", bank_slope,
-            param("", "Horizontal run of the banks per unit rise").positive().at_most(20));
-    v.field("bend_amplitude", bend_amplitude,
-            param("m", "How far the centreline swings towards +y (the left bank) in the bend"));
-    v.field("narrowing", narrowing,
-            param("", "Width factor of the narrowing reach").positive().at_most(1));
-    v.field("widening", widening,
-            param("", "Width factor of the widening reach").at_least(1).at_most(4));
-    v.field("bed_roughness", bed_roughness,
-            param("m", "Largest height of the seeded bed undulations").non_negative());
-    v.field("floodplain", floodplain,
-            param("m", "Flat ground beyond each bank top").non_negative());
-    v.field("cell_size", cell_size, param("m", "Spacing of the height grid").positive());
-  }
-};
-
-// Terrain of a river scene: from a height map or the built-in generator; optionally filled with
-// water at rest up to `water_level` where the water mask says so.
-struct TerrainConfig {
-  std::string source = "river";
-  std::string file;
-  std::string water_mask;
-  Vec3 origin = Vec3::Zero();
-  Real cell_size = 0;
-  Real z_min = 0;
-  Real z_max = 1;
-  RiverGeneratorConfig river;
-  bool fill_water = false;
-  Real water_level = 0;
-  Vec3 fill_velocity = Vec3::Zero();
-  template <class V>
-  void describe(V& v) {
-    v.field("source", source,
-            param("",
-                  "river: the built-in generator; asc: an ESRI ASCII grid; png: a grayscale "
-                  "height map (8 or 16 bit)")
-                .one_of({"river", "asc", "png"}));
-    v.field("file", file,
-            param("", "Height map file (asc, png), relative to the scene file's folder"));
-    v.field("water_mask", water_mask,
-            param("",
-                  "PNG of the height map's size, nonzero where the river is (asc, png; "
-                  "optional: without it every cell below water_level is water)"));
-    v.field("origin", origin,
-            param("m", "png: position of the south-west (bottom-left) pixel's centre; z unused"));
-    v.field("cell_size", cell_size,
-            param("m", "png: distance between pixel centres").non_negative());
-    v.field("z_min", z_min, param("m", "png: height of gray value 0"));
-    v.field("z_max", z_max, param("m", "png: height of the largest gray value"));
-    v.field("river", river, param("", "Built-in river generator (source river)"));
-    v.field("fill_water", fill_water,
-            param("", "Fill the water cells with fluid at rest up to water_level"));
-    v.field("fill_velocity", fill_velocity,
-            param("m/s",
-                  "Initial velocity of the filled water (a river's flow speed shortens "
-                  "its warm-up)"));
-    v.field("water_level", water_level,
-            param("m", "Height of the water surface (the generated river's is 0)"));
-  }
-};
-
-// Flow through a river reach (needs `terrain`): water enters through the channel's cross-section
-// at `inflow_x` at `speed` along +x and particles past `outflow_x` are retired; retired water
-// particles are recycled to the inflow (identities stay fixed).
-struct FlowConfig {
-  Real inflow_x = 0;
-  Real outflow_x = 0;
-  Real speed = Real(1.5);
-  Real buffer = Real(0.1);
-  Real reserve_s = Real(1);
-  template <class V>
-  void describe(V& v) {
-    v.field("inflow_x", inflow_x,
-            param("m",
-                  "Plane where water enters: a layer of particles over the channel's "
-                  "cross-section below terrain/water_level")
-                .require());
-    v.field(
-        "outflow_x", outflow_x,
-        param("m", "Particles downstream of this plane leave the scene (active = 0)").require());
-    v.field("speed", speed, param("m/s", "Inflow speed along +x").positive());
-    v.field("buffer", buffer,
-            param("m",
-                  "Length downstream of inflow_x over which water moves at exactly `speed` "
-                  "(the inflow's steady profile), so the flow cannot push back through it")
-                .non_negative());
-    v.field("reserve_s", reserve_s,
-            param("s",
-                  "Spare particles for the inflow, in seconds of inflow, before retired ones "
-                  "come back; running out stops the run with an error")
-                .positive());
+  void check(const std::string& file, const std::string& pointer) const {
+    if (std::abs(double(water) + double(oil) - 1) > 1e-6)
+      throw ConfigError(file, pointer,
+                        "expected volume fractions that sum to 1, got water " +
+                            std::to_string(water) + " + oil " + std::to_string(oil));
   }
 };
 
@@ -246,92 +101,8 @@ struct FluidBlockConfig {
     v.field("fractions", fractions,
             param("", "Volume fractions of a mixed block (instead of `material`); sum 1"));
   }
-};
-
-// A source of fluid: a disc or rectangle that releases layers of particles along `direction`
-// at `speed`, `rate` cubic metres per second from `start` to `stop` (the reusable element for
-// vessel inflows and pipeline leaks).
-struct EmitterConfig {
-  std::string shape = "disc";
-  Vec3 centre = Vec3::Zero();
-  Vec3 direction = Vec3(0, 0, -1);
-  Real radius = Real(0.05);
-  Real width = Real(0.1);
-  Real height = Real(0.1);
-  Real speed = 1;
-  Real rate = 0;
-  Real start = 0;
-  Real stop = 0;
-  std::string material = "water";
-  template <class V>
-  void describe(V& v) {
-    v.field("shape", shape, param("", "Outlet shape").one_of({"disc", "rectangle"}));
-    v.field("centre", centre, param("m", "Centre of the outlet").require());
-    v.field("direction", direction, param("", "Direction of the outflow (normalised on use)"));
-    v.field("radius", radius, param("m", "Disc radius").positive());
-    v.field(
-        "width", width,
-        param("m", "Rectangle side along the horizontal perpendicular of `direction`").positive());
-    v.field("height", height, param("m", "Rectangle side along the third axis").positive());
-    v.field("speed", speed, param("m/s", "Outflow speed").positive());
-    v.field("rate", rate, param("m^3/s", "Volume flow rate").positive().require());
-    v.field("start", start, param("s", "When the outflow starts").non_negative());
-    v.field("stop", stop, param("s", "When it stops").positive().require());
-    v.field("material", material, param("", "Phase released").one_of({"water", "oil"}));
-  }
-};
-
-// An oil leak from a pipeline crossing the river at `x`: oil pours from the pipe, `height` above
-// the water surface, through a round opening of `radius` straight down, at `rate` for `duration`
-// from `start` (sph/leak.h turns it into an emitter over the chosen point of the channel).
-struct LeakConfig {
-  Real x = 0;
-  std::string position = "centre";
-  std::optional<Real> lateral;
-  Real rate = Real(5e-4);
-  Real start = 0;
-  Real duration = 1;
-  Real height = Real(0.1);
-  Real radius = Real(0.05);
-  Real speed = Real(0.5);
-  template <class V>
-  void describe(V& v) {
-    v.field("x", x, param("m", "Where the pipeline crosses the river, along the flow").require());
-    v.field("position", position,
-            param("",
-                  "Where across the channel the pipe leaks: left_bank (+y, the left looking "
-                  "downstream), centre or right_bank; a bank leak is a fifth of the water "
-                  "surface's width in from that bank")
-                .one_of({"left_bank", "centre", "right_bank"}));
-    v.field("lateral", lateral,
-            param("",
-                  "Instead of `position`, a number from -1 (right_bank) through 0 (centre) to "
-                  "1 (left_bank), so that datasets can draw it (--vary)")
-                .at_least(-1)
-                .at_most(1));
-    v.field("rate", rate, param("m^3/s", "Oil leak rate").positive());
-    v.field("start", start, param("s", "When the leak starts").non_negative());
-    v.field("duration", duration, param("s", "How long it leaks").positive());
-    v.field("height", height,
-            param("m", "Height of the opening above the water surface").positive());
-    v.field("radius", radius, param("m", "Radius of the opening").positive());
-    v.field("speed", speed, param("m/s", "Speed of the oil leaving the opening").positive());
-  }
-};
-
-// A named place on the river (a water intake, a boom site) where the oil's arrival is timed.
-struct WatchPointConfig {
-  std::string name;
-  Real x = 0;
-  Real y = 0;
-  Real radius = Real(0.2);
-  template <class V>
-  void describe(V& v) {
-    v.field("name", name, param("", "Name reported in spill.json").require());
-    v.field("x", x, param("m", "Position along the flow").require());
-    v.field("y", y, param("m", "Position across the flow (+y: left bank)").require());
-    v.field("radius", radius,
-            param("m", "Oil within this distance (seen from above) has arrived").positive());
+  void check(const std::string& file, const std::string& pointer) const {
+    check_corners(min, max, file, pointer);
   }
 };
 
@@ -342,6 +113,9 @@ struct DomainConfig {
   void describe(V& v) {
     v.field("min", min, param("m", "Lower corner").require());
     v.field("max", max, param("m", "Upper corner").require());
+  }
+  void check(const std::string& file, const std::string& pointer) const {
+    check_corners(min, max, file, pointer);
   }
 };
 

@@ -6,7 +6,8 @@
 
 #include <string>
 
-#include "sph/core/scene.h"
+#include "sph/boundary/boundary_configs.h"
+#include "sph/river/river_configs.h"
 #include "sph/river/terrain.h"
 
 namespace sph {

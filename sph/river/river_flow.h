@@ -17,8 +17,8 @@
 #include <vector>
 
 #include "sph/core/particle_set.h"
-#include "sph/core/scene.h"
 #include "sph/core/simulation_error.h"
+#include "sph/river/river_configs.h"
 #include "sph/river/terrain.h"
 
 namespace sph {

@@ -8,7 +8,7 @@
 // above it, and a flat floodplain beyond; the bed carries a seeded roughness. The water mask
 // marks where the bed lies below the surface.
 
-#include "sph/core/scene.h"
+#include "sph/river/river_configs.h"
 #include "sph/river/terrain.h"
 
 namespace sph {

@@ -12,7 +12,7 @@
 #include <vector>
 
 #include "sph/core/particle_set.h"
-#include "sph/core/scene.h"
+#include "sph/river/river_configs.h"
 #include "sph/river/terrain.h"
 
 namespace sph {
