@@ -139,9 +139,16 @@ int DfsphSolver::solve_divergence(FluidParticles& fluid, const ParticleNeighbour
 
 int DfsphSolver::solve_density(FluidParticles& fluid, const ParticleNeighbourhood& nb, Real dt,
                                StepStats& stats) {
-  // The density the predicted velocities would lead to, compression only.
+  // The density the predicted velocities would lead to, compression only; an error the step
+  // starts with counts with the weight r = min(1, dt / relaxation time) (see the header).
+  const Real relax = std::min(Real(1), dt / config_.density_relaxation_time);
+  const bool partial = relax < 1;
   auto error_of = [&](Index i) {
-    return std::max(fluid.density[i] + dt * density_rate(i, fluid, nb) - Real(1), Real(0));
+    const Real change = dt * density_rate(i, fluid, nb);
+    // (Written as before where the whole error counts, so such runs are bit-identical.)
+    const Real predicted = partial ? relax * (fluid.density[i] - Real(1)) + change
+                                   : fluid.density[i] + change - Real(1);
+    return std::max(predicted, Real(0));
   };
   return solve(fluid, nb, dt, stiffness_density_, double(config_.density_error_percent) * 0.01,
                config_.min_iterations_density, error_of, stats.density_error_avg,

@@ -68,6 +68,16 @@ double gyration_ratio(const FluidParticles& f) {
 // top: >= 95 % of the oil particles above the water's free surface (the mean over 2d x 2d
 // columns of the highest water particle) minus one diameter, and few water particles above
 // the oil layer's lower quartile.
+// Height of the oil's centre: the oil-fraction-weighted mean z of the fluid particles.
+double oil_height(const FluidParticles& f) {
+  double volume = 0, moment = 0;
+  for (Index i = 0; i < f.active_count(); ++i) {
+    volume += double(f.oil_fraction[i]);
+    moment += double(f.oil_fraction[i]) * double(f.position[i][2]);
+  }
+  return moment / volume;
+}
+
 TEST(TwoPhase, PouredOilEndsInALayerOnTop) {
   const LoadedScene scene = load_scene(kScenes + "oil_water_pour.json");
   Simulation sim(scene.config);
@@ -116,16 +126,7 @@ TEST(TwoPhase, MixtureConservesMassAndBoundsFractions) {
                   "/materials/water/viscosity=0.001", "/materials/oil/viscosity=0.004"});
   Simulation sim(scene.config);
   const double mass0 = total_mass(sim.fluid());
-  auto oil_height = [&] {
-    double volume = 0, moment = 0;
-    const FluidParticles& f = sim.fluid();
-    for (Index i = 0; i < f.active_count(); ++i) {
-      volume += double(f.oil_fraction[i]);
-      moment += double(f.oil_fraction[i]) * double(f.position[i][2]);
-    }
-    return moment / volume;
-  };
-  const double height0 = oil_height();
+  const double height0 = oil_height(sim.fluid());
   double worst_mass = 0;
   const int frames = int(std::lround(scene.config.end_time / scene.config.output.frame_dt));
   for (int frame = 1; frame <= frames; ++frame) {
@@ -142,8 +143,8 @@ TEST(TwoPhase, MixtureConservesMassAndBoundsFractions) {
     }
   }
   EXPECT_LT(worst_mass, 1e-6);
-  EXPECT_GT(oil_height() - height0, 0.05)
-      << "oil-weighted height " << height0 << " -> " << oil_height() << " m";
+  EXPECT_GT(oil_height(sim.fluid()) - height0, 0.05)
+      << "oil-weighted height " << height0 << " -> " << oil_height(sim.fluid()) << " m";
 }
 
 // Zero gravity: a 2:1:1 block of water pulls itself toward a sphere under surface tension: the
@@ -222,19 +223,10 @@ TEST(TwoPhase, RisingOilCubeStaysUnmixed) {
                        {"min": [0.06, 0.14, 0.06], "max": [0.14, 0.2, 0.14]}]})");
     j["mixture"]["diffusion_sigma"] = diffusion_sigma;
     Simulation sim(parse_scene(j, "oil_cube_rising").config);
-    auto oil_height = [&] {
-      double volume = 0, moment = 0;
-      const FluidParticles& f = sim.fluid();
-      for (Index i = 0; i < f.active_count(); ++i) {
-        volume += double(f.oil_fraction[i]);
-        moment += double(f.oil_fraction[i]) * double(f.position[i][2]);
-      }
-      return moment / volume;
-    };
-    const double height0 = oil_height();
+    const double height0 = oil_height(sim.fluid());
     EXPECT_EQ(oil_volume_in_oil_particles(sim.fluid()), 1.0) << "the cube starts pure";
     run_to(sim, 1.0, 0.1);
-    *rise = oil_height() - height0;
+    *rise = oil_height(sim.fluid()) - height0;
     return oil_volume_in_oil_particles(sim.fluid());
   };
   double rise = 0, rise_smeared = 0;      // m
