@@ -1,5 +1,6 @@
 #include "common/json_file.h"
 
+#include <filesystem>
 #include <fstream>
 
 #include "common/config_error.h"
@@ -7,11 +8,14 @@
 namespace common {
 
 nlohmann::json load_json_file(const std::string& file, const std::string& what) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(file, ec))
+    throw ConfigError(file, "", "is a folder, not the " + what);
   std::ifstream in(file);
   if (!in) throw ConfigError(file, "", "cannot open the " + what);
   try {
     return nlohmann::json::parse(in, nullptr, true, /*ignore_comments=*/true);
-  } catch (const nlohmann::json::parse_error& e) {
+  } catch (const nlohmann::json::exception& e) {  // malformed, or a number out of range
     throw ConfigError(file, "", std::string("not valid JSON: ") + e.what());
   }
 }
@@ -27,6 +31,8 @@ void apply_overrides(nlohmann::json& j, const std::vector<std::string>& override
     nlohmann::json value;
     try {
       value = nlohmann::json::parse(text);
+    } catch (const nlohmann::json::out_of_range&) {
+      throw ConfigError(file, ptr, "--set " + o + ": the number is out of range");
     } catch (const nlohmann::json::parse_error&) {
       value = text;  // not JSON: take it as a string, e.g. --set /solver=wcsph
     }

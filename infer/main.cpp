@@ -5,6 +5,7 @@
 #include <CLI/CLI.hpp>
 #include <iostream>
 
+#include "common/command_line.h"
 #include "common/config_error.h"
 #include "common/exit_codes.h"
 #include "common/output_folder.h"
@@ -35,16 +36,22 @@ int main(int argc, char** argv) {
   infer::RolloutOptions rollout;
   auto* r = app.add_subcommand("rollout", "predict a trajectory and draw it beside the truth");
   add_common(r, rollout.common);
-  r->add_option("--trajectory", rollout.trajectory, "trajectory index in the split");
-  r->add_option("--from", rollout.from, "recorded frame to start from");
-  r->add_option("--frames", rollout.frames, "frames to predict (default: to the end)");
-  r->add_option("--png-every", rollout.png_every, "draw every n-th frame");
+  r->add_option("--trajectory", rollout.trajectory, "trajectory index in the split")
+      ->check(CLI::NonNegativeNumber);
+  r->add_option("--from", rollout.from, "recorded frame to start from")
+      ->check(CLI::NonNegativeNumber);
+  r->add_option("--frames", rollout.frames, "frames to predict (default: to the end)")
+      ->check(CLI::PositiveNumber);
+  r->add_option("--png-every", rollout.png_every, "draw every n-th frame")
+      ->check(CLI::PositiveNumber);
   infer::EvalOptions eval;
   auto* e = app.add_subcommand("eval", "accuracy and speed over every trajectory of a split");
   add_common(e, eval.common);
-  e->add_option("--from", eval.from, "recorded frame each rollout starts from");
-  e->add_option("--frames", eval.frames, "frames per rollout (default: to the end)");
-  CLI11_PARSE(app, argc, argv);
+  e->add_option("--from", eval.from, "recorded frame each rollout starts from")
+      ->check(CLI::NonNegativeNumber);
+  e->add_option("--frames", eval.frames, "frames per rollout (default: to the end)")
+      ->check(CLI::PositiveNumber);
+  if (const auto stop = common::parse_command_line(app, argc, argv)) return *stop;
   try {
     if (r->parsed()) {
       gnn::configure_runtime(gnn::inference_runtime(rollout.common.threads));

@@ -6,6 +6,7 @@
 #include <CLI/CLI.hpp>
 #include <iostream>
 
+#include "common/command_line.h"
 #include "common/config_error.h"
 #include "common/exit_codes.h"
 #include "common/output_folder.h"
@@ -38,7 +39,7 @@ int main(int argc, char** argv) {
                  "/model/latent=64)");
   std::string device = "cpu";
   app.add_option("--device", device, "where the model trains: cpu (default) or cuda[:N]");
-  CLI11_PARSE(app, argc, argv);
+  if (const auto stop = common::parse_command_line(app, argc, argv)) return *stop;
   gnn::configure_runtime({threads, blas_threads});
   options.log = &std::cerr;
   options.terminal = isatty(2);

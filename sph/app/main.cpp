@@ -17,6 +17,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "common/command_line.h"
 #include "common/exit_codes.h"
 #include "common/output_folder.h"
 #include "sph/app/dataset_generator.h"
@@ -56,7 +57,8 @@ int main(int argc, char** argv) {
   run->add_option("--scene", scene_file, "Scene JSON file")->required();
   run->add_option("--out", out_dir, "Output folder (not replaced unless --force)")->required();
   run->add_option("--set", overrides, "Override a scene value: /json/pointer=value");
-  run->add_option("--threads", threads, "OpenMP threads (default: all cores)");
+  run->add_option("--threads", threads, "OpenMP threads (default: all cores)")
+      ->check(CLI::PositiveNumber);
   run->add_flag("--ply", ply, "Write a PLY file per frame");
   run->add_flag("--png", png, "Write side- and top-view PNG pictures per frame");
   run->add_flag(
@@ -67,7 +69,8 @@ int main(int argc, char** argv) {
   run->add_option("--initial-state", initial_state,
                   "Continue from a state saved by --save-state-at (e.g. after a river's warm-up)");
   run->add_option("--save-state-at", save_state_at,
-                  "Save the state at this frame time to DIR/state.h5");
+                  "Save the state at this frame time to DIR/state.h5")
+      ->check(CLI::NonNegativeNumber);
 
   std::string bench_scene = "configs/scenes/dam_break.json";
   std::vector<double> radii;
@@ -76,7 +79,9 @@ int main(int argc, char** argv) {
   auto* bench = app.add_subcommand("bench", "Measure solver throughput; prints JSON");
   bench->add_option("--scene", bench_scene, "Scene JSON file")->capture_default_str();
   bench->add_option("--radius", radii, "Particle radii to run (default: the scene's)");
-  bench->add_option("--threads", bench_threads, "OpenMP threads")->capture_default_str();
+  bench->add_option("--threads", bench_threads, "OpenMP threads")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
   bench->add_option("--set", bench_overrides, "Override a scene value: /json/pointer=value");
   std::vector<std::string> compare_solvers;
   int repeat = 3;
@@ -86,7 +91,8 @@ int main(int argc, char** argv) {
                    "ratio is the first's median wall time over the second's")
       ->delimiter(',');
   bench->add_option("--repeat", repeat, "Runs of each solver with --compare")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
 
   sph::GenerateOptions gen;
   std::string gen_scene, gen_out, gen_split = "0.8/0.1/0.1";
@@ -95,25 +101,32 @@ int main(int argc, char** argv) {
   auto* generate = app.add_subcommand(
       "generate", "Simulate N trajectories with drawn parameters into train/valid/test.h5");
   generate->add_option("--scene", gen_scene, "Scene JSON file")->required();
-  generate->add_option("--trajectories", gen.trajectories, "Number of trajectories")->required();
+  generate->add_option("--trajectories", gen.trajectories, "Number of trajectories")
+      ->required()
+      ->check(CLI::PositiveNumber);
   generate->add_option("--out", gen_out, "Dataset folder (resumed if it holds a partial run)")
       ->required();
   generate->add_option("--vary", gen_vary, "Draw a scene value per trajectory: /pointer=LO:HI");
   generate->add_option("--seed", gen.seed, "Seed of the draws")->capture_default_str();
   generate->add_option("--split", gen_split, "Train/valid/test fractions")->capture_default_str();
-  generate->add_option("--frames", gen.frames,
-                       "Recorded frames per trajectory after the warm-up (default: to the end)");
-  generate->add_option("--warm-up", gen.warm_up,
-                       "Seconds simulated before recording (default: the first leak's start)");
+  generate
+      ->add_option("--frames", gen.frames,
+                   "Recorded frames per trajectory after the warm-up (default: to the end)")
+      ->check(CLI::PositiveNumber);
+  generate
+      ->add_option("--warm-up", gen.warm_up,
+                   "Seconds simulated before recording (default: the first leak's start)")
+      ->check(CLI::NonNegativeNumber);
   generate->add_option("--set", gen_overrides, "Override a scene value: /json/pointer=value");
   generate
       ->add_option("--threads", gen_threads,
                    "OpenMP threads (1, the default, makes datasets bit-reproducible)")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
 
   auto* doc = app.add_subcommand("scene-doc", "Print the scene parameter reference (Markdown)");
 
-  CLI11_PARSE(app, argc, argv);
+  if (const auto stop = common::parse_command_line(app, argc, argv)) return *stop;
 
   try {
     if (*doc) {

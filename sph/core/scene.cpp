@@ -20,10 +20,54 @@ namespace sph {
 
 namespace {
 
+std::string number(double v) {
+  std::ostringstream s;
+  s << v;
+  return s.str();
+}
+
+// Explicit viscosity is stable for dt <= 0.125 d^2 / nu (Simulation limits its steps so); a bound
+// below dt_min would silently override dt_min, so it is refused, naming the viscosity at fault.
+void check_viscous_time_step(const SceneConfig& s, const std::string& file) {
+  bool oil = !s.leaks.empty(), water = s.terrain.has_value() || s.flow.has_value();
+  for (const auto& b : s.fluid_blocks) {
+    oil = oil || b.oil_fraction() > 0;
+    water = water || b.oil_fraction() < 1;
+  }
+  for (const auto& e : s.emitters) (e.material == "oil" ? oil : water) = true;
+  std::string key;
+  double nu = 0;
+  auto consider = [&](bool used, double value, const std::string& pointer) {
+    if (used && value > nu) nu = value, key = pointer;
+  };
+  consider(water, s.materials.water.viscosity, "/materials/water/viscosity");
+  consider(oil, s.materials.oil.viscosity, "/materials/oil/viscosity");
+  consider(true, s.boundary.friction, "/boundary/friction");
+  if (nu <= 0) return;
+  const double d = s.particle_diameter(), limit = 0.125 * d * d / nu;
+  if (limit < double(s.time_step.dt_min))
+    throw ConfigError(
+        file, key,
+        "explicit viscosity needs steps of at most 0.125 d^2 / nu = " + number(limit) +
+            " s, below /time_step/dt_min (" + number(s.time_step.dt_min) +
+            " s): lower the viscosity, or dt_min, or use larger particles");
+}
+
 // Checks across the scene's parts (each part checks itself as it is read).
 void check_consistency(const SceneConfig& s, const std::string& file) {
   if (s.output.frame_dt > s.end_time)
     throw ConfigError(file, "/output/frame_dt", "expected <= /end_time");
+  // Frames are counted in an int and the run ends on a frame: refuse what cannot be either.
+  const double frames = double(s.end_time) / double(s.output.frame_dt);
+  if (frames > 1e7)
+    throw ConfigError(
+        file, "/end_time",
+        "expected at most 10,000,000 frames of /output/frame_dt, got " + number(frames));
+  if (std::abs(frames - std::round(frames)) > 1e-3)
+    throw ConfigError(file, "/end_time",
+                      "expected a whole number of frames of /output/frame_dt (" +
+                          number(s.output.frame_dt) + " s), got " + number(frames));
+  check_viscous_time_step(s, file);
   if (s.flow && !s.terrain) throw ConfigError(file, "/flow", "a river flow needs a /terrain");
   if (!s.leaks.empty() && !s.terrain)
     throw ConfigError(file, "/leaks", "a pipeline leak needs a /terrain to lie over");

@@ -192,6 +192,61 @@ TEST(Scene, ExecutableReportsBadSceneAndWritesNothing) {
   fs::remove_all(dir);
 }
 
+// Inputs that once passed silently or crashed: each is a ConfigError naming the file and the key.
+TEST(Scene, ValuesThatCannotRunAreRefusedNamingTheKey) {
+  auto j = minimal_scene();
+  // A viscosity whose stable step is below dt_min (here 1.25e-6 s; water at 100 m^2/s in the
+  // hydrostatic scene: 7.8e-7 s) used to override
+  // dt_min silently and blow up.
+  j["materials"] = {{"water", {{"viscosity", 1000}}}};
+  expect_error(j, "/materials/water/viscosity", "below /time_step/dt_min");
+  j = minimal_scene();
+  j["boundary"] = {{"friction", 1e3}};
+  expect_error(j, "/boundary/friction", "below /time_step/dt_min");
+  // The oil's viscosity counts only where there is oil.
+  j = minimal_scene();
+  j["materials"] = {{"oil", {{"viscosity", 1000}}}};
+  EXPECT_NO_THROW(parse_scene(j, "test.json"));
+  j["fluid_blocks"][0]["material"] = "oil";
+  expect_error(j, "/materials/oil/viscosity", "below /time_step/dt_min");
+  // Frame counts that overflow an int, and an end time between two frames.
+  j = minimal_scene();
+  j["end_time"] = 1.1e8;
+  expect_error(j, "/end_time", "at most 10,000,000 frames");
+  j = minimal_scene();
+  j["end_time"] = 0.103;
+  j["output"] = {{"frame_dt", 0.02}};
+  expect_error(j, "/end_time", "whole number of frames");
+  // A number JSON cannot hold, and a scene path that is a folder.
+  const std::string hydrostatic = kScenes + "/hydrostatic.json";
+  try {
+    load_scene(hydrostatic, {"/end_time=1e400"});
+    ADD_FAILURE() << "expected a ConfigError";
+  } catch (const ConfigError& e) {
+    EXPECT_EQ(e.pointer(), "/end_time");
+    EXPECT_NE(std::string(e.what()).find("out of range"), std::string::npos) << e.what();
+  }
+  try {
+    load_scene(kScenes);
+    ADD_FAILURE() << "expected a ConfigError";
+  } catch (const ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("is a folder"), std::string::npos) << e.what();
+  }
+}
+
+// A malformed command line is bad input like any other: exit 2, not CLI11's own codes.
+TEST(Scene, BadCommandLineValuesExitTwo) {
+  const std::string base = std::string(SPILL_SIM_EXE) + " run --scene " + kScenes +
+                           "/hydrostatic.json --out " +
+                           (fs::temp_directory_path() / "spill_bad_option").string() + " ";
+  for (const char* option : {"--threads -3", "--save-state-at -1", "--no-such-option"}) {
+    const int status = std::system((base + option + " > /dev/null 2>&1").c_str());
+    ASSERT_TRUE(WIFEXITED(status)) << option;
+    EXPECT_EQ(WEXITSTATUS(status), 2) << option;
+  }
+  EXPECT_FALSE(fs::exists(fs::temp_directory_path() / "spill_bad_option"));
+}
+
 // docs/scene_reference.md is `spill-sim scene-doc`'s output: regenerate it when a parameter
 // changes (spill-sim scene-doc > docs/scene_reference.md).
 TEST(Scene, ReferenceDocumentInDocsMatchesTheCode) {
