@@ -99,6 +99,13 @@ void run_eval(const EvalOptions& o) {
   if (o.common.log)
     progress = std::make_unique<common::ProgressReporter>(*o.common.log, false,
                                                           int64_t(d.trajectories.size()), "eval");
+  // Nothing to score is not a perfect score: a split without trajectories, or whose fluid is
+  // never present, is refused.
+  if (d.trajectories.empty())
+    throw gnn::DatasetError(o.common.data_dir + "/" + o.common.split + ".h5: no trajectories");
+  for (const auto& t : d.trajectories)
+    if (t.particle_type.size(0) == 0 || !t.active.any().item<bool>())
+      throw gnn::DatasetError(t.source + ": no fluid particle is ever active; nothing to score");
   for (size_t k = 0; k < d.trajectories.size(); ++k) {
     const auto& t = d.trajectories[k];
     const int64_t available = t.frames() - 1 - o.from;

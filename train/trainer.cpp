@@ -53,6 +53,13 @@ Trainer::Trainer(TrainerOptions options) : options_(std::move(options)) {
   for (const auto& t : train_)
     if (t.frames() < gnn::kWindow + 1 + config_.training.pushforward_steps)
       throw gnn::DatasetError(t.source + ": too few frames for a training window");
+  // Validation takes a window and the frame after it (it once crashed at the first validation
+  // with a LibTorch backtrace on shorter trajectories).
+  for (const auto& t : valid_)
+    if (t.frames() < gnn::kWindow + 1)
+      throw gnn::DatasetError(t.source + ": " + std::to_string(t.frames()) +
+                              " frames, a validation window needs at least " +
+                              std::to_string(gnn::kWindow + 1));
   const std::string last = checkpoint_path(options_.out_dir);
   if (options_.resume) {
     if (!fs::exists(last))

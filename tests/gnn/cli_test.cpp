@@ -73,5 +73,14 @@ TEST(Cli, TrainRollOutAndEvaluateOnATinyDataset) {
                 (dir / "bad_rollout").string()),
             2);
   EXPECT_FALSE(fs::exists(dir / "bad_rollout"));
+
+  // A validation split too short for a window (it crashed at the first validation) and a test
+  // split whose fluid is never present (it scored perfectly) are refused, exit 2.
+  tiny::rewrite_split(dir / "data", "valid", 5, false);
+  EXPECT_EQ(run(train + " --out " + (dir / "short_valid").string() + " --set /steps=30"), 2);
+  EXPECT_FALSE(fs::exists(dir / "short_valid" / "last.pt"));
+  tiny::rewrite_split(dir / "data", "test", 20, true);
+  EXPECT_EQ(run(infer + " eval" + ckpt + " --out " + (dir / "empty_eval").string()), 2);
+  EXPECT_FALSE(fs::exists(dir / "empty_eval"));
   fs::remove_all(dir);
 }

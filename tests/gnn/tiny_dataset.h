@@ -64,6 +64,21 @@ inline Frames simulate(unsigned seed) {
   return f;
 }
 
+// Replaces `split`.h5 in `dir` by its first `frames` frames, with every particle inactive when
+// `never_active` (bad-input tests).
+inline void rewrite_split(const std::filesystem::path& dir, const std::string& split, int frames,
+                          bool never_active) {
+  Frames f = simulate(7);
+  std::vector<std::int32_t> type(kParticles);
+  for (int i = 0; i < kParticles; ++i) type[i] = i % 2;
+  sph::TrajectoryWriter w((dir / (split + ".h5")).string(), "00000", type, {sph::Vec3(0, 0, 0.3f)});
+  for (int t = 0; t < frames; ++t)
+    w.append(t * kFrameDt, f.position[t], f.velocity[t],
+             never_active ? std::vector<std::uint8_t>(kParticles, 0) : f.active[t],
+             std::vector<sph::Real>(kParticles, 0));
+  w.close();
+}
+
 // Writes train.h5 (seed 1), valid.h5 (seed 2), test.h5 (seed 3) and metadata.json into `dir`.
 inline void write(const std::filesystem::path& dir) {
   std::filesystem::create_directories(dir);
