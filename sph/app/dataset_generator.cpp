@@ -1,5 +1,4 @@
 #include "sph/app/dataset_generator.h"
-#include "sph/core/simulation_error.h"
 
 #include <hdf5.h>
 
@@ -19,6 +18,7 @@
 #include "sph/core/config.h"
 #include "sph/core/scene.h"
 #include "sph/core/simulation.h"
+#include "sph/core/simulation_error.h"
 #include "sph/io/trajectory_writer.h"
 
 namespace sph {

@@ -1,5 +1,4 @@
 #include "sph/app/scene_runner.h"
-#include "sph/core/simulation_error.h"
 
 #include "sph/io/animation.h"
 #include "sph/river/spill_metrics.h"
@@ -17,6 +16,7 @@
 #include "common/progress.h"
 #include "common/stopwatch.h"
 #include "sph/core/config.h"
+#include "sph/core/simulation_error.h"
 #include "sph/io/ply_writer.h"
 #include "sph/io/trajectory_writer.h"
 

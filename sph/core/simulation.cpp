@@ -1,5 +1,4 @@
 #include "sph/core/simulation.h"
-#include "sph/core/simulation_error.h"
 
 #include "sph/river/leak.h"
 
@@ -10,6 +9,7 @@
 
 #include "common/stopwatch.h"
 #include "sph/core/config.h"
+#include "sph/core/simulation_error.h"
 
 namespace sph {
 

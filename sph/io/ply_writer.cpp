@@ -1,10 +1,10 @@
 #include "sph/io/ply_writer.h"
-#include "sph/core/simulation_error.h"
 
 #include <cstring>
 #include <fstream>
 
 #include "sph/core/config.h"
+#include "sph/core/simulation_error.h"
 
 namespace sph {
 

@@ -1,5 +1,4 @@
 #include "sph/river/height_map_io.h"
-#include "sph/core/simulation_error.h"
 
 #include <png.h>
 
@@ -12,6 +11,7 @@
 #include <sstream>
 
 #include "sph/core/config.h"
+#include "sph/core/simulation_error.h"
 
 namespace sph {
 

@@ -1,5 +1,4 @@
 #include "sph/river/river_flow.h"
-#include "sph/core/simulation_error.h"
 
 #include <algorithm>
 #include <cmath>
@@ -8,6 +7,7 @@
 #include <string>
 
 #include "sph/core/config.h"
+#include "sph/core/simulation_error.h"
 
 namespace sph {
 
