@@ -66,7 +66,24 @@ Trainer::Trainer(TrainerOptions options) : options_(std::move(options)) {
       throw gnn::CheckpointError(last + ": nothing to resume (no checkpoint in the run folder)");
     auto loaded = gnn::load_checkpoint(last, config_.model_json.value("model", ""));
     gnn::check_data_fits(loaded.data, metadata_, last);
-    // The run goes on with its own stored configs; only the step count may be raised.
+    // The run goes on with its own stored configs; only the step count may be raised. A config
+    // that now says something else is refused, naming every key that differs (a resumed run
+    // that silently ignored a new learning rate once passed for a run with it).
+    {
+      nlohmann::json asked = config_.training_json, stored_config = loaded.state.training_config;
+      asked.erase("steps");
+      stored_config.erase("steps");
+      const nlohmann::json patch = nlohmann::json::diff(stored_config, asked);
+      if (!patch.empty()) {
+        std::string keys;
+        for (const auto& op : patch)
+          keys += (keys.empty() ? "" : ", ") + op.at("path").get<std::string>();
+        throw common::ConfigError(options_.config_file, patch[0].at("path").get<std::string>(),
+                                  "differs from the run being resumed (" + last + ") at " + keys +
+                                      "; only /steps may change on --resume: start a new run "
+                                      "with another --out to train with other settings");
+      }
+    }
     const int steps = config_.training.steps;
     const std::string stored = loaded.state.training_config.dump();
     config_.training_json = loaded.state.training_config;

@@ -6,6 +6,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "common/config_error.h"
 #include "gnn/data/frame_window.h"
 #include "gnn/eval/rollout.h"
 #include "gnn/graph/radius_graph.h"
@@ -173,6 +174,21 @@ TEST(Training, ResumeEqualsAnUninterruptedRun) {
   EXPECT_EQ(a, b);
   // A second fresh run into the same folder is refused rather than overwriting it.
   EXPECT_THROW(train::Trainer(options(data, straight, 40, short_schedule)), std::runtime_error);
+  // Resuming with another setting than /steps is refused, naming every key that differs.
+  auto changed = options(data, split, 60,
+                         {"/validate_every=20", "/checkpoint_every=20", "/log_every=5",
+                          "/lr_max=0.5", "/model/latent=8"});
+  changed.resume = true;
+  try {
+    train::Trainer trainer(changed);
+    ADD_FAILURE() << "expected a ConfigError";
+  } catch (const common::ConfigError& e) {
+    const std::string m = e.what();
+    EXPECT_NE(m.find("/lr_max"), std::string::npos) << m;
+    EXPECT_NE(m.find("/model/latent"), std::string::npos) << m;
+    EXPECT_NE(m.find("only /steps may change"), std::string::npos) << m;
+  }
+  EXPECT_EQ(log_rows_without_timing(split / "log.csv"), b) << "the run is untouched";
 }
 
 TEST(SegmentOps, MatchPlainGatherAndScatterInValueAndGradient) {
