@@ -33,7 +33,14 @@ Emitter::Emitter(const EmitterConfig& config, Real spacing, Real volume, const P
   }
   const double duration = double(config.stop) - double(config.start);
   const double layer_volume = double(volume) * double(layer_.size());
-  layers_ = Index(std::max(1.0, std::round(double(config.rate) * duration / layer_volume)));
+  // In double first: a huge rate once wrapped the 32-bit count to zero and emitted nothing.
+  const double layers = std::max(1.0, std::round(double(config.rate) * duration / layer_volume));
+  if (!(layers * double(layer_.size()) <= kMaxEmittedParticles))
+    throw EmitterRateError("a rate of " + std::to_string(config.rate) + " m^3/s for " +
+                           std::to_string(duration) + " s releases " +
+                           std::to_string(layers * double(layer_.size())) +
+                           " particles; at most 1e8 are allowed per outlet");
+  layers_ = Index(layers);
   interval_ = duration / double(layers_);
   // A layer must have moved one spacing before the next one appears on top of it; slower
   // outflow would stack layers closer than the rest spacing and the pressure solve would blast

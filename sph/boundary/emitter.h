@@ -6,12 +6,23 @@
 // number of layers is the whole rate x duration rounded to full layers, spread evenly over the
 // duration, so the released volume is right to half a layer.
 
+#include <stdexcept>
 #include <vector>
 
 #include "sph/boundary/boundary_configs.h"
 #include "sph/core/particle_set.h"
 
 namespace sph {
+
+// An outlet whose rate over its duration would release more particles than a run can hold.
+class EmitterRateError : public std::invalid_argument {
+ public:
+  using std::invalid_argument::invalid_argument;
+};
+
+// The most particles one emitter may release: far beyond any scene we run (a few 10^5), well
+// inside the 32-bit particle index, so the count can never wrap.
+constexpr double kMaxEmittedParticles = 1e8;
 
 class Emitter {
  public:

@@ -171,6 +171,8 @@ LoadedScene parse_scene(nlohmann::json j, const std::string& file) {
   auto check_outlet = [&](const EmitterConfig& e, const std::string& ptr) {
     try {
       Emitter(e, spacing, volume, PhaseMix{});
+    } catch (const EmitterRateError& error) {
+      throw ConfigError(file, ptr + "/rate", error.what());
     } catch (const std::invalid_argument& error) {
       throw ConfigError(file, ptr + "/speed", error.what());
     }

@@ -217,6 +217,10 @@ TEST(Scene, ValuesThatCannotRunAreRefusedNamingTheKey) {
   j["end_time"] = 0.103;
   j["output"] = {{"frame_dt", 0.02}};
   expect_error(j, "/end_time", "whole number of frames");
+  // A rate whose particle count wrapped the 32-bit layer count to zero (it emitted nothing).
+  j = minimal_scene();
+  j["emitters"] = {{{"centre", {0.5, 0.5, 0.8}}, {"rate", 1e7}, {"stop", 1.0}, {"speed", 1e12}}};
+  expect_error(j, "/emitters/0/rate", "at most 1e8");
   // A number JSON cannot hold, and a scene path that is a folder.
   const std::string hydrostatic = kScenes + "/hydrostatic.json";
   try {
