@@ -1,6 +1,8 @@
 #include "gnn/training/checkpoint.h"
 
 #include <cmath>
+#include <cstdint>
+#include <cstdio>
 #include <filesystem>
 
 namespace gnn {
@@ -30,6 +32,30 @@ std::string read_text(torch::serialize::InputArchive& archive, const std::string
   if (!archive.try_read(key, t))
     throw CheckpointError(path + ": not a checkpoint of ours (no \"" + key + "\" entry)");
   return tensor_text(t);
+}
+
+// FNV-1a over the names and bytes of the weights and normalisation statistics: a weight changed
+// inside the file (a damaged copy) no longer loads silently. 64 bits in hex text.
+std::string payload_checksum(GraphModel& model, const Normalisation& n) {
+  std::uint64_t h = 1469598103934665603ull;
+  auto add = [&](const void* data, size_t bytes) {
+    const auto* b = static_cast<const unsigned char*>(data);
+    for (size_t k = 0; k < bytes; ++k) h = (h ^ b[k]) * 1099511628211ull;
+  };
+  auto add_tensor = [&](const std::string& name, const torch::Tensor& t) {
+    add(name.data(), name.size());
+    const auto c = t.detach().to(torch::kCPU).contiguous();
+    add(c.data_ptr(), size_t(c.numel()) * c.element_size());
+  };
+  for (const auto& p : model.named_parameters()) add_tensor(p.key(), p.value());
+  for (const auto& b : model.named_buffers()) add_tensor(b.key(), b.value());
+  add_tensor("vel_mean", n.vel_mean);
+  add_tensor("vel_std", n.vel_std);
+  add_tensor("acc_mean", n.acc_mean);
+  add_tensor("acc_std", n.acc_std);
+  char text[17];
+  std::snprintf(text, sizeof text, "%016llx", static_cast<unsigned long long>(h));
+  return text;
 }
 
 }  // namespace
@@ -62,6 +88,8 @@ void save_checkpoint(const std::string& path, LearnedSimulator& simulator,
   archive.write("sampler_state", text_tensor(state.sampler_state));
   if (state.noise_generator_state.defined())
     archive.write("noise_generator_state", state.noise_generator_state);
+  archive.write("payload_checksum",
+                text_tensor(payload_checksum(simulator.model(), simulator.normalisation())));
   for (const auto& p : simulator.model().named_parameters())
     archive.write(archive_key(p.key()), p.value().detach());
   for (const auto& b : simulator.model().named_buffers())
@@ -141,6 +169,13 @@ LoadedCheckpoint load_checkpoint(const std::string& path,
   } catch (const nlohmann::json::exception&) {
     throw CheckpointError(path + ": the data description has no valid bounds");
   }
+  // Checkpoints written before the checksum was stored have none to check.
+  torch::Tensor stored_checksum;
+  if (archive.try_read("payload_checksum", stored_checksum) &&
+      tensor_text(stored_checksum) != payload_checksum(*model, n))
+    throw CheckpointError(path +
+                          ": the weights do not match their stored checksum (the file is "
+                          "damaged or was altered)");
   out.simulator = std::make_unique<LearnedSimulator>(model, n, bounds);
   torch::Tensor step, elapsed, sampler;
   if (archive.try_read("step", step)) out.state.step = step.item<int64_t>();

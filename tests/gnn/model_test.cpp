@@ -123,6 +123,48 @@ TEST(Checkpoint, ACheckpointOfAnotherModelOrNoneAtAllIsAClearError) {
                gnn::CheckpointError);
 }
 
+// A weight changed inside a well-formed file (one set to 1e6 once loaded silently and scored 8 x
+// worse) fails the stored checksum; the untouched copy, rewritten the same way, loads.
+TEST(Checkpoint, AWeightAlteredInsideTheFileIsRefused) {
+  Tiny data("tampered");
+  auto sim = data.simulator();
+  const std::string file = (data.dir / "model.pt").string();
+  gnn::save_checkpoint(file, *sim, gnn::describe_data(data.metadata), {}, nullptr);
+  // Copies every entry of the archive, setting the first weight of `altered` (if any) to 1e6.
+  auto rewrite = [&](const std::string& out, const std::string& altered) {
+    torch::serialize::InputArchive in;
+    in.load_from(file);
+    torch::serialize::OutputArchive copy;
+    for (const auto& key : in.keys()) {
+      torch::Tensor t;
+      ASSERT_TRUE(in.try_read(key, t)) << key;
+      if (key == altered) {
+        t = t.clone();
+        t.view(-1)[0] = 1e6;
+      }
+      copy.write(key, t);
+    }
+    copy.save_to(out);
+  };
+  const std::string first_weight = "param:" + [&] {
+    std::string name = sim->model().named_parameters().begin()->key();
+    for (auto& c : name)
+      if (c == '.') c = '/';
+    return name;
+  }();
+  const std::string same = (data.dir / "same.pt").string(), bad = (data.dir / "bad.pt").string();
+  rewrite(same, "");
+  rewrite(bad, first_weight);
+  EXPECT_NO_THROW(gnn::load_checkpoint(same));
+  try {
+    gnn::load_checkpoint(bad);
+    FAIL() << "an altered weight loaded";
+  } catch (const gnn::CheckpointError& e) {
+    EXPECT_NE(std::string(e.what()).find("checksum"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find(bad), std::string::npos) << e.what();
+  }
+}
+
 TEST(Rollout, ReplaysTheRecordedEmissionSchedule) {
   Tiny data("rollout");
   auto sim = data.simulator();
