@@ -277,6 +277,39 @@ nlohmann::json generate_dataset(const GenerateOptions& o) {
 
   const fs::path parts_dir = o.out_dir / "parts";
   fs::create_directories(parts_dir);
+  // The whole resolved request: a folder is resumed only by the same request. Comparing the
+  // drawn values alone once let another --frames, --set, --scene, --warm-up or --seed reuse the
+  // old trajectories and rewrite metadata.json for the new settings.
+  nlohmann::json vary = nlohmann::json::array();
+  for (const auto& r : o.vary) vary.push_back({{"pointer", r.pointer}, {"lo", r.lo}, {"hi", r.hi}});
+  const nlohmann::json request = {{"scene", load_scene(o.scene_file, o.overrides).resolved},
+                                  {"vary", vary},
+                                  {"seed", o.seed},
+                                  {"split", o.split},
+                                  {"trajectories", o.trajectories},
+                                  {"frames", o.frames},
+                                  {"warm_up", o.warm_up}};
+  const fs::path request_file = parts_dir / "request.json";
+  if (fs::exists(request_file)) {
+    const nlohmann::json stored = load_json_file(request_file.string(), "generation request");
+    const nlohmann::json patch = nlohmann::json::diff(stored, request);
+    if (!patch.empty()) {
+      std::string keys;
+      for (const auto& op : patch)
+        keys += (keys.empty() ? "" : ", ") + op.at("path").get<std::string>();
+      throw ConfigError(request_file.string(), patch[0].at("path").get<std::string>(),
+                        "this folder holds a generation with other settings (" + keys +
+                            " differ); resume it with the same command, or use a fresh --out");
+    }
+  } else {
+    bool earlier_parts = false;
+    for (const auto& e : fs::directory_iterator(parts_dir))
+      earlier_parts = earlier_parts || e.is_regular_file();
+    if (earlier_parts)
+      throw ConfigError(request_file.string(), "",
+                        "missing, beside trajectories of an earlier generation; use a fresh --out");
+    write_json_atomically(request_file, request);
+  }
   std::vector<Part> parts(size_t(o.trajectories));
   int split = 0, in_split = 0;
   for (int k = 0; k < o.trajectories; ++k) {
@@ -347,8 +380,6 @@ nlohmann::json generate_dataset(const GenerateOptions& o) {
   meta["statistics_note"] =
       "velocity x_t - x_(t-1) and acceleration x_(t+1) - 2 x_t + x_(t-1) per frame (m), over "
       "fluid particles active in those frames, of the training split";
-  nlohmann::json vary = nlohmann::json::array();
-  for (const auto& r : o.vary) vary.push_back({{"pointer", r.pointer}, {"lo", r.lo}, {"hi", r.hi}});
   meta["generation"] = {{"seed", o.seed},           {"trajectories", o.trajectories},
                         {"split", o.split},         {"frames", o.frames},
                         {"warm_up", o.warm_up},     {"vary", vary},

@@ -146,9 +146,28 @@ TEST_F(Generate, ResumesWithoutRedoingAndMatchesAnUninterruptedRun) {
               read_positions(whole.out_dir / split, "00000", &d2))
         << split;
   }
-  // Another seed in the same folder is refused rather than mixed in.
-  o.seed = 8;
-  EXPECT_THROW(generate_dataset(o), ConfigError);
+  // Another request in the same folder is refused rather than mixed in, naming what differs:
+  // the seed, the frames, a --set (once only the drawn values were compared, so these reused
+  // the old trajectories and rewrote metadata.json, exit 0).
+  auto expect_refused = [&](GenerateOptions changed, const std::string& key) {
+    try {
+      generate_dataset(changed);
+      ADD_FAILURE() << key << ": the changed request was accepted";
+    } catch (const ConfigError& e) {
+      EXPECT_NE(std::string(e.what()).find(key), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find("request.json"), std::string::npos) << e.what();
+    }
+  };
+  GenerateOptions changed = o;
+  changed.seed = 8;
+  expect_refused(changed, "/seed");
+  changed = o;
+  changed.frames = o.frames + 1;
+  expect_refused(changed, "/frames");
+  changed = o;
+  changed.overrides.push_back("/particle_radius=0.021");
+  expect_refused(changed, "/scene/particle_radius");
+  EXPECT_EQ(read_json(o.out_dir / "metadata.json"), resumed) << "the dataset is untouched";
 }
 
 TEST(GenerateInput, BadRequestsAreClearErrors) {
