@@ -83,18 +83,6 @@ class ConfigSections {
       }
     throw std::logic_error("no config section \"" + key + "\" is registered");
   }
-  // For tests and programs that build a config in code: a private copy of section `key`.
-  template <class T>
-  T& edit(const std::string& key) {
-    for (auto& s : sections_)
-      if (s.entry.key == key) {
-        auto copy = std::make_shared<TypedConfigSection<T>>();
-        copy->value = get<T>(key);
-        s.section = copy;
-        return copy->value;
-      }
-    throw std::logic_error("no config section \"" + key + "\" is registered");
-  }
 
  private:
   struct Section {

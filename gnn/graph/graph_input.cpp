@@ -7,57 +7,51 @@ namespace gnn {
 
 namespace {
 
-// Throws naming the tensor, what was expected and what it got.
-class TensorCheck {
- public:
-  TensorCheck(std::string where, torch::Device device)
-      : where_(std::move(where)), device_(device) {}
-
-  // `sizes`: -1 matches any extent.
-  void operator()(const char* name, const torch::Tensor& t, std::vector<int64_t> sizes,
-                  torch::ScalarType dtype) const {
-    if (!t.defined()) fail(name, "is missing");
-    bool shape_ok = t.dim() == int64_t(sizes.size());
-    for (size_t k = 0; shape_ok && k < sizes.size(); ++k)
-      shape_ok = sizes[k] < 0 || t.size(int64_t(k)) == sizes[k];
-    if (!shape_ok) fail(name, "expected sizes " + text(sizes) + ", got " + text(t.sizes().vec()));
-    if (t.scalar_type() != dtype)
-      fail(name, std::string("expected dtype ") + c10::toString(dtype) + ", got " +
-                     c10::toString(t.scalar_type()));
-    if (!t.is_contiguous())
-      fail(name, "expected a contiguous tensor (sizes " + text(t.sizes().vec()) + ")");
-    if (t.device() != device_)
-      fail(name,
-           "expected it on " + device_.str() + " like node_features, got " + t.device().str());
+std::string sizes_text(const std::vector<int64_t>& sizes) {
+  std::ostringstream s;
+  s << "[";
+  for (size_t k = 0; k < sizes.size(); ++k) {
+    if (k) s << ", ";
+    if (sizes[k] < 0)
+      s << "*";
+    else
+      s << sizes[k];
   }
-
- private:
-  [[noreturn]] void fail(const char* name, const std::string& what) const {
-    throw std::invalid_argument(where_ + ": graph input " + name + ": " + what);
-  }
-  static std::string text(const std::vector<int64_t>& sizes) {
-    std::ostringstream s;
-    s << "[";
-    for (size_t k = 0; k < sizes.size(); ++k) {
-      if (k) s << ", ";
-      if (sizes[k] < 0)
-        s << "*";
-      else
-        s << sizes[k];
-    }
-    s << "]";
-    return s.str();
-  }
-  std::string where_;
-  torch::Device device_;
-};
+  s << "]";
+  return s.str();
+}
 
 }  // namespace
+
+void check_tensor(const std::string& where, const std::string& name, const torch::Tensor& t,
+                  const std::vector<int64_t>& sizes, torch::ScalarType dtype,
+                  const torch::Device& device, bool contiguous) {
+  auto fail = [&](const std::string& what) {
+    throw std::invalid_argument(where + ": " + name + ": " + what);
+  };
+  if (!t.defined()) fail("is missing");
+  bool shape_ok = t.dim() == int64_t(sizes.size());
+  for (size_t k = 0; shape_ok && k < sizes.size(); ++k)
+    shape_ok = sizes[k] < 0 || t.size(int64_t(k)) == sizes[k];
+  if (!shape_ok)
+    fail("expected sizes " + sizes_text(sizes) + ", got " + sizes_text(t.sizes().vec()));
+  if (t.scalar_type() != dtype)
+    fail(std::string("expected dtype ") + c10::toString(dtype) + ", got " +
+         c10::toString(t.scalar_type()));
+  if (contiguous && !t.is_contiguous())
+    fail("expected a contiguous tensor (sizes " + sizes_text(t.sizes().vec()) + ")");
+  if (t.device() != device) fail("expected it on " + device.str() + ", got " + t.device().str());
+}
 
 void check_graph_input(const GraphInput& g, const std::string& where) {
   if (!g.node_features.defined())
     throw std::invalid_argument(where + ": graph input node_features: is missing");
-  const TensorCheck check(where, g.node_features.device());
+  // Every tensor on the device of node_features.
+  const torch::Device device = g.node_features.device();
+  auto check = [&](const char* name, const torch::Tensor& t, std::vector<int64_t> sizes,
+                   torch::ScalarType dtype) {
+    check_tensor(where, std::string("graph input ") + name, t, sizes, dtype, device);
+  };
   check("node_features", g.node_features, {-1, kNodeFeatures}, torch::kFloat32);
   const int64_t n = g.node_features.size(0);
   check("node_type", g.node_type, {n}, torch::kInt64);

@@ -30,6 +30,12 @@ constexpr int64_t kBoundFeatures = 6;
 constexpr int64_t kNodeFeatures = kVelocityFeatures + kMaterialFeatures + kBoundFeatures;
 constexpr int64_t kEdgeFeatures = 4;
 
+// Throws std::invalid_argument "WHERE: NAME: ..." when `t` is missing or its sizes (-1: any
+// extent), dtype, device or (with `contiguous`) layout differ, printing what it got.
+void check_tensor(const std::string& where, const std::string& name, const torch::Tensor& t,
+                  const std::vector<int64_t>& sizes, torch::ScalarType dtype,
+                  const torch::Device& device, bool contiguous = true);
+
 // Checks every tensor's shape, dtype, contiguity and device at a model's entry; a mismatch throws
 // std::invalid_argument naming `where`, the tensor and the sizes it got.
 void check_graph_input(const GraphInput& g, const std::string& where);

@@ -12,31 +12,12 @@ LearnedSimulator::LearnedSimulator(std::shared_ptr<GraphModel> model, Normalisat
                                    Bounds bounds)
     : model_(std::move(model)), normalisation_(std::move(normalisation)), bounds_(bounds) {}
 
-namespace {
-
-std::string sizes_text(const torch::Tensor& t) {
-  std::string s = "[";
-  for (int64_t k = 0; k < t.dim(); ++k) s += (k ? ", " : "") + std::to_string(t.size(k));
-  return s + "]";
-}
-
-}  // namespace
-
 void check_frame_nodes(const FrameNodes& f, const std::string& where) {
+  // CPU tensors, any layout (windows are slices of the recorded trajectory).
   auto check = [&](const char* name, const torch::Tensor& t, std::vector<int64_t> sizes,
                    torch::ScalarType dtype) {
-    auto fail = [&](const std::string& what) {
-      throw std::invalid_argument(where + ": frame " + name + ": " + what);
-    };
-    if (!t.defined()) fail("is missing");
-    bool ok = t.dim() == int64_t(sizes.size());
-    for (size_t k = 0; ok && k < sizes.size(); ++k)
-      ok = sizes[k] < 0 || t.size(int64_t(k)) == sizes[k];
-    if (!ok) fail("got sizes " + sizes_text(t));
-    if (t.scalar_type() != dtype)
-      fail(std::string("expected dtype ") + c10::toString(dtype) + ", got " +
-           c10::toString(t.scalar_type()));
-    if (!t.is_cpu()) fail("expected a CPU tensor, got one on " + t.device().str());
+    check_tensor(where, std::string("frame ") + name, t, sizes, dtype, torch::kCPU,
+                 /*contiguous=*/false);
   };
   check("history", f.history, {-1, kWindow, 3}, torch::kFloat32);
   const int64_t n = f.history.size(0);
