@@ -10,6 +10,7 @@
 #include "sph/boundary/emitter.h"
 #include "sph/core/config.h"
 #include "sph/core/lattice.h"
+#include "sph/core/scene_size.h"
 #include "sph/forces/non_pressure_force.h"
 #include "sph/river/height_map_io.h"
 #include "sph/river/leak.h"
@@ -53,6 +54,46 @@ void check_viscous_time_step(const SceneConfig& s, const std::string& file) {
             " s): lower the viscosity, or dt_min, or use larger particles");
 }
 
+std::string format_point(const Vec3& p) {
+  return "(" + number(p[0]) + ", " + number(p[1]) + ", " + number(p[2]) + ")";
+}
+
+// Every part of the geometry must lie inside an explicit /domain: particles outside it cannot be
+// found by the neighbour search (a river longer than the domain stopped the run with "point
+// outside the domain" and nothing more).
+void check_inside_domain(const SceneConfig& s, const std::string& file) {
+  const Aabb d{s.domain->min, s.domain->max};
+  auto require = [&](const Vec3& lo, const Vec3& hi, const std::string& pointer,
+                     const std::string& what) {
+    if (d.contains(lo) && d.contains(hi)) return;
+    throw ConfigError(file, pointer,
+                      what + " spans " + format_point(lo) + " to " + format_point(hi) +
+                          ", beyond /domain " + format_point(d.min) + " to " +
+                          format_point(d.max) + ": grow /domain or shrink the part");
+  };
+  for (size_t i = 0; i < s.fluid_blocks.size(); ++i)
+    require(s.fluid_blocks[i].min, s.fluid_blocks[i].max, "/fluid_blocks/" + std::to_string(i),
+            "the fluid block");
+  for (size_t i = 0; i < s.boxes.size(); ++i)
+    require(s.boxes[i].min, s.boxes[i].max, "/boxes/" + std::to_string(i), "the box");
+  for (size_t i = 0; i < s.height_fields.size(); ++i) {
+    const auto& f = s.height_fields[i];
+    Real lo = f.heights[0][0], hi = lo;
+    for (const auto& row : f.heights)
+      for (Real z : row) lo = std::min(lo, z), hi = std::max(hi, z);
+    require(Vec3(f.origin[0], f.origin[1], lo),
+            Vec3(f.origin[0] + f.cell_size * Real(f.heights[0].size() - 1),
+                 f.origin[1] + f.cell_size * Real(f.heights.size() - 1), hi),
+            "/height_fields/" + std::to_string(i), "the height field");
+  }
+  if (s.terrain_grid) {
+    const Terrain& t = *s.terrain_grid;
+    require(Vec3(t.origin_x, t.origin_y, t.min_height()),
+            Vec3(t.max_x(), t.max_y(), std::max(t.max_height(), s.terrain->water_level)),
+            "/terrain", "the terrain");
+  }
+}
+
 // Checks across the scene's parts (each part checks itself as it is read).
 void check_consistency(const SceneConfig& s, const std::string& file) {
   if (s.output.frame_dt > s.end_time)
@@ -75,15 +116,7 @@ void check_consistency(const SceneConfig& s, const std::string& file) {
       !(s.terrain && s.terrain->fill_water) && !s.flow)
     throw ConfigError(file, "/fluid_blocks",
                       "expected at least one fluid block, emitter or water-filled terrain");
-  if (s.domain) {
-    for (size_t i = 0; i < s.fluid_blocks.size(); ++i) {
-      const auto& b = s.fluid_blocks[i];
-      const Aabb d{s.domain->min, s.domain->max};
-      if (!d.contains(b.min) || !d.contains(b.max))
-        throw ConfigError(file, "/fluid_blocks/" + std::to_string(i),
-                          "fluid block lies outside /domain");
-    }
-  }
+  if (s.domain) check_inside_domain(s, file);
 }
 
 // The region the scene's geometry spans: /domain if given, else the bounding box of boxes,
@@ -128,6 +161,7 @@ std::shared_ptr<const Terrain> load_terrain(const TerrainConfig& c, const std::s
     throw ConfigError(file, "/terrain/file", "expected a height map file for source " + c.source);
   Terrain t;
   if (c.source == "river") {
+    check_river_grid_size(c.river, file, "/terrain/river", physical_memory_bytes());
     t = generate_river(c.river);
   } else if (c.source == "asc") {
     t = read_esri_ascii(resolve(c.file));
@@ -161,6 +195,7 @@ LoadedScene parse_scene(nlohmann::json j, const std::string& file) {
   JsonReader::read_struct(j, file, "", out.config);
   if (out.config.terrain) out.config.terrain_grid = load_terrain(*out.config.terrain, file);
   check_consistency(out.config, file);
+  check_scene_size(out.config, file, physical_memory_bytes());
   // A leak over dry ground or off the terrain, or an outlet whose speed cannot carry its rate,
   // is an error naming its entry.
   const SceneConfig& c = out.config;

@@ -110,8 +110,17 @@ Simulation::Simulation(const SceneConfig& scene)
     domain_.min.array() -= scene_.support_radius();
     domain_.max.array() += scene_.support_radius();
   }
-  neighbourhood_ =
-      std::make_unique<ParticleNeighbourhood>(domain_, kernel_, scene_.support_radius(), boundary_);
+  try {
+    neighbourhood_ = std::make_unique<ParticleNeighbourhood>(domain_, kernel_,
+                                                             scene_.support_radius(), boundary_);
+  } catch (const PointOutsideDomain& e) {
+    // The boundary layer sits up to a support radius behind the declared surfaces.
+    throw SimulationError("boundary particle " + std::to_string(e.index()) + " at " +
+                          format_vec(e.point()) + " lies outside the domain [" +
+                          format_vec(domain_.min) + ", " + format_vec(domain_.max) +
+                          "]: grow /domain by a support radius (" +
+                          std::to_string(scene_.support_radius()) + " m) around the geometry");
+  }
   solver_ = make_pressure_solver(scene_);
   forces_ = make_non_pressure_forces(scene_);
   // Explicit viscosity is stable for dt <= 0.125 h^2 / nu (Morris, Fox & Zhu, J. Comput. Phys.

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <csetjmp>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <map>
 #include <memory>
@@ -117,6 +118,15 @@ Terrain read_esri_ascii(const std::string& path) {
   if (cols < 2 || rows < 2 || cols != std::floor(cols) || rows != std::floor(rows))
     throw ConfigError(path, "ncols", "expected whole numbers of columns and rows, at least 2");
   if (!(t.cell_size > 0)) throw ConfigError(path, "cellsize", "expected > 0");
+  // Every height takes at least two characters (a digit and a separator): a header promising
+  // more than the file can hold is refused before the grid is allocated.
+  std::error_code size_error;
+  const double file_bytes = double(std::filesystem::file_size(path, size_error));
+  if (!size_error && cols * rows * 2 > file_bytes)
+    throw ConfigError(path, "ncols",
+                      "ncols x nrows = " + std::to_string(cols * rows) +
+                          " heights cannot fit in the file's " + std::to_string(file_bytes) +
+                          " bytes");
   t.nx = int(cols);
   t.ny = int(rows);
   // Cell centres: a corner reference is half a cell outside the first centre.

@@ -13,6 +13,7 @@
 #include <fstream>
 
 #include "sph/core/config.h"
+#include "sph/core/scene_size.h"
 #include "sph/core/simulation.h"
 #include "sph/solvers/pressure_solver.h"
 
@@ -220,7 +221,7 @@ TEST(Scene, ValuesThatCannotRunAreRefusedNamingTheKey) {
   // A rate whose particle count wrapped the 32-bit layer count to zero (it emitted nothing).
   j = minimal_scene();
   j["emitters"] = {{{"centre", {0.5, 0.5, 0.8}}, {"rate", 1e7}, {"stop", 1.0}, {"speed", 1e12}}};
-  expect_error(j, "/emitters/0/rate", "at most 1e8");
+  expect_error(j, "/emitters/0/rate", "particles");
   // A number JSON cannot hold, and a scene path that is a folder.
   const std::string hydrostatic = kScenes + "/hydrostatic.json";
   try {
@@ -236,6 +237,69 @@ TEST(Scene, ValuesThatCannotRunAreRefusedNamingTheKey) {
   } catch (const ConfigError& e) {
     EXPECT_NE(std::string(e.what()).find("is a folder"), std::string::npos) << e.what();
   }
+}
+
+// The size estimate that refuses oversized scenes before allocating: within a factor of two of
+// what every shipped scene really allocates (fluid, including emitter and inflow reserves, and
+// boundary particles), so it neither lets a huge scene through nor refuses a real one.
+TEST(Scene, ParticleEstimateIsWithinAFactorTwoOfEveryShippedScene) {
+  for (const auto& entry : fs::directory_iterator(kScenes)) {
+    if (entry.path().extension() != ".json") continue;
+    SCOPED_TRACE(entry.path().string());
+    const LoadedScene s = load_scene(entry.path().string());
+    double estimate = 0;
+    for (const auto& part : estimate_particles(s.config)) estimate += part.particles;
+    const Simulation sim(s.config);
+    const double actual = double(sim.fluid().size()) + double(sim.boundary().size());
+    EXPECT_GT(estimate, 0.5 * actual);
+    EXPECT_LT(estimate, 2.0 * actual);
+  }
+}
+
+// Scenes too large for the machine once overflowed an int and crashed (a 1e9 m wide river) or
+// grew without output (particle_radius 1e-4 on the tank: 11 GB); they are refused before anything
+// is allocated, naming the key.
+TEST(Scene, ScenesTooLargeForTheMachineAreRefusedNamingTheKey) {
+  const std::string river = kScenes + "/river_small.json";
+  auto expect_refused = [](const std::string& scene, const std::vector<std::string>& set,
+                           const std::string& pointer, const std::string& words) {
+    try {
+      load_scene(scene, set);
+      ADD_FAILURE() << "expected a ConfigError at " << pointer;
+    } catch (const ConfigError& e) {
+      EXPECT_EQ(e.pointer(), pointer) << e.what();
+      EXPECT_NE(std::string(e.what()).find(words), std::string::npos) << e.what();
+    }
+  };
+  for (const char* key : {"width", "bend_amplitude", "bank_height", "floodplain", "length"})
+    expect_refused(river, {std::string("/terrain/river/") + key + "=1e9"},
+                   std::string("/terrain/river/") + key, "memory");
+  expect_refused(river, {"/terrain/river/cell_size=1e-6"}, "/terrain/river/cell_size", "memory");
+  expect_refused(river, {"/leaks/0/rate=1e6"}, "/leaks/0/rate", "particles");
+  expect_refused(river, {"/leaks/0/radius=1e9"}, "/leaks/0/radius", "particles");
+  expect_refused(river, {"/domain/max/0=1e9"}, "/domain", "neighbour grid");
+  expect_refused(kScenes + "/hydrostatic.json",
+                 {"/particle_radius=1e-4", "/materials/water/viscosity=0", "/time_step/dt_min=1e-9"},
+                 "/fluid_blocks/0", "particles");
+  // The memory bound is the machine's: the tank (~4k particles, ~3 MB) fits in 1 GB, not in 1 MB.
+  const LoadedScene tank = load_scene(kScenes + "/hydrostatic.json");
+  EXPECT_NO_THROW(check_scene_size(tank.config, "t.json", 1e9));
+  EXPECT_THROW(check_scene_size(tank.config, "t.json", 1e6), ConfigError);
+}
+
+// Geometry beyond an explicit /domain stopped the run with "point outside the domain" and
+// nothing more; it is refused naming the part.
+TEST(Scene, GeometryOutsideTheDomainIsRefusedNamingThePart) {
+  try {
+    load_scene(kScenes + "/river_small.json", {"/domain/max/0=3"});
+    ADD_FAILURE() << "expected a ConfigError";
+  } catch (const ConfigError& e) {
+    EXPECT_EQ(e.pointer(), "/terrain") << e.what();
+    EXPECT_NE(std::string(e.what()).find("beyond /domain"), std::string::npos) << e.what();
+  }
+  auto j = minimal_scene();
+  j["domain"] = {{"min", {0, 0, 0}}, {"max", {1, 1, 0.9}}};
+  expect_error(j, "/boxes/0", "beyond /domain");
 }
 
 // A malformed command line is bad input like any other: exit 2, not CLI11's own codes.
