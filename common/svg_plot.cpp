@@ -8,6 +8,8 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "common/checked_file.h"
+
 namespace common {
 
 namespace {
@@ -77,17 +79,7 @@ void write_panels(const std::string& path, const std::string& title,
   for (size_t k = 0; k < panels.size(); ++k)
     draw_panel(s, panels[k], kTitleHeight + kPanelHeight * double(k));
   s << "</svg>\n";
-  const std::string tmp = path + ".tmp";
-  {
-    std::ofstream out(tmp);
-    out << s.str();
-    if (!out) {
-      out.close();
-      std::filesystem::remove(tmp);
-      throw std::runtime_error(path + ": cannot write the plot");
-    }
-  }
-  std::filesystem::rename(tmp, path);
+  write_file_atomically(path, s.str());
 }
 
 void write_line_plot(const std::string& path, const std::string& title, const std::string& x_label,

@@ -3,6 +3,7 @@
 #include <map>
 #include <numeric>
 
+#include "common/checked_file.h"
 #include "common/exit_codes.h"
 #include "common/progress.h"
 #include "common/svg_plot.h"
@@ -158,11 +159,7 @@ void run_eval(const EvalOptions& o) {
 
   const fs::path out = output.staging();
   const std::string json_file = (out / "eval.json").string();
-  {
-    std::ofstream f(json_file);
-    f << result.dump(2) << "\n";
-    if (!f) throw std::runtime_error(json_file + ": cannot write");
-  }
+  common::write_file_atomically(json_file, result.dump(2) + "\n");
   std::vector<common::PlotSeries> series;
   for (size_t k = 0; k < scores.size(); ++k) {
     common::PlotSeries p{

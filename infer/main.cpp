@@ -8,6 +8,7 @@
 #include "common/command_line.h"
 #include "common/config_error.h"
 #include "common/exit_codes.h"
+#include "common/hdf5_handles.h"
 #include "common/output_folder.h"
 #include "gnn/data/dataset.h"
 #include "gnn/runtime/runtime.h"
@@ -31,6 +32,7 @@ void add_common(CLI::App* c, infer::CommonOptions& o) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  common::skip_hdf5_exit_handler();
   CLI::App app{"Roll out and evaluate a learned particle simulator"};
   app.require_subcommand(1);
   infer::RolloutOptions rollout;

@@ -4,6 +4,7 @@
 #include <numeric>
 #include <sstream>
 
+#include "common/checked_file.h"
 #include "common/exit_codes.h"
 #include "common/progress.h"
 #include "gnn/eval/rollout.h"
@@ -72,7 +73,7 @@ void run_rollout(const RolloutOptions& o) {
                           "and leave on the recorded schedule; volume_fraction is the "
                           "particle's phase (not predicted)"}};
   metadata["sequence_length"] = frames + 1;
-  std::ofstream(tmp / "metadata.json") << metadata.dump(2) << "\n";
+  common::write_file_atomically(tmp / "metadata.json", metadata.dump(2) + "\n");
 
   SideBySideRenderer renderer(t, d.metadata);
   for (int64_t k = 0; k <= frames; ++k) {
@@ -97,7 +98,7 @@ void run_rollout(const RolloutOptions& o) {
        "wall time of the learned simulator per frame, graph building included; "
        "sph_seconds_per_frame is the SPH's time for the same frames when the dataset "
        "was generated (0 when the dataset does not record it)"}};
-  std::ofstream(tmp / "timing.json") << timing.dump(2) << "\n";
+  common::write_file_atomically(tmp / "timing.json", timing.dump(2) + "\n");
   output.commit();
   if (o.common.log)
     *o.common.log << "rollout of " << frames << " frames (" << std::setprecision(3)

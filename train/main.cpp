@@ -9,6 +9,7 @@
 #include "common/command_line.h"
 #include "common/config_error.h"
 #include "common/exit_codes.h"
+#include "common/hdf5_handles.h"
 #include "common/output_folder.h"
 #include "gnn/data/dataset.h"
 #include "gnn/runtime/runtime.h"
@@ -16,6 +17,7 @@
 #include "train/trainer.h"
 
 int main(int argc, char** argv) {
+  common::skip_hdf5_exit_handler();
   CLI::App app{"Train a learned particle simulator (GNS) on spill trajectories"};
   train::TrainerOptions options;
   int threads = 2;

@@ -8,6 +8,7 @@
 #include <iomanip>
 #include <sstream>
 
+#include "common/checked_file.h"
 #include "common/config_visitors.h"
 #include "common/progress.h"
 #include "common/svg_plot.h"
@@ -39,8 +40,9 @@ void truncate_log(const std::string& file, int64_t step) {
     if (std::stoll(line.substr(0, line.find(','))) <= step) keep.push_back(line);
   }
   in.close();
-  std::ofstream out(file, std::ios::trunc);
-  for (const auto& l : keep) out << l << "\n";
+  std::string text;
+  for (const auto& l : keep) text += l + "\n";
+  common::write_file_atomically(file, text);
 }
 
 }  // namespace
@@ -224,21 +226,35 @@ void Trainer::write_loss_plot() const {
 }
 
 double Trainer::run() {
+  // A run folder made by this run and left without a checkpoint holds nothing to resume: it is
+  // removed when training fails (a full disk once left an empty config.json and log.csv).
+  const bool new_folder = !fs::exists(options_.out_dir);
+  try {
+    return train_steps();
+  } catch (...) {
+    std::error_code ec;
+    if (new_folder && !fs::exists(checkpoint_path(options_.out_dir), ec))
+      fs::remove_all(options_.out_dir, ec);
+    throw;
+  }
+}
+
+double Trainer::train_steps() {
   const auto& c = config_.training;
   fs::create_directories(options_.out_dir);
   const std::string log_file = (fs::path(options_.out_dir) / "log.csv").string();
   if (options_.resume && fs::exists(log_file)) {
     truncate_log(log_file, state_.step);
   } else {
-    std::ofstream(log_file, std::ios::trunc) << kLogHeader << "\n";
-    std::ofstream((fs::path(options_.out_dir) / "config.json").string())
-        << nlohmann::json{{"training", config_.training_json},
-                          {"model", simulator_->model().config()},
-                          {"data", options_.data_dir}}
-               .dump(2)
-        << "\n";
+    common::write_file_atomically(log_file, std::string(kLogHeader) + "\n");
+    common::write_file_atomically(fs::path(options_.out_dir) / "config.json",
+                                  nlohmann::json{{"training", config_.training_json},
+                                                 {"model", simulator_->model().config()},
+                                                 {"data", options_.data_dir}}
+                                          .dump(2) +
+                                      "\n");
   }
-  std::ofstream log(log_file, std::ios::app);
+  std::ostringstream log;  // one line per log step, appended (and checked) as it completes
   log << std::setprecision(9);
   std::unique_ptr<common::ProgressReporter> progress;
   if (options_.log)
@@ -286,7 +302,9 @@ double Trainer::run() {
       } else {
         log << ",";
       }
-      log << "\n" << std::flush;
+      log << "\n";
+      common::append_to_file(log_file, log.str());
+      log.str("");
       if (progress) {
         std::ostringstream d;
         d << std::setprecision(3) << "loss " << last_loss << " lr " << lr << " "

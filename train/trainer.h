@@ -48,6 +48,7 @@ class Trainer {
   int64_t step() const { return state_.step; }
 
  private:
+  double train_steps();  // run() without the clean-up of a failed new run folder
   void validate(double& one_step_loss, double& rollout_mse);
   void save(const std::string& path);
   void write_loss_plot() const;

@@ -5,6 +5,8 @@
 #include <cstdio>
 #include <filesystem>
 
+#include "common/checked_file.h"
+
 namespace gnn {
 namespace {
 
@@ -99,14 +101,11 @@ void save_checkpoint(const std::string& path, LearnedSimulator& simulator,
     optimizer->save(optimizer_archive);
     archive.write("optimizer", optimizer_archive);
   }
-  const std::string tmp = path + ".tmp";
-  try {
-    archive.save_to(tmp);
-  } catch (const c10::Error& e) {
-    std::filesystem::remove(tmp);
-    throw CheckpointError(path + ": cannot write the checkpoint: " + e.what_without_backtrace());
-  }
-  std::filesystem::rename(tmp, path);
+  // Serialised in memory first: LibTorch's file writer aborts the process when the disk fills
+  // (its destructor throws), leaving last.pt.tmp behind.
+  std::ostringstream bytes;
+  archive.save_to(bytes);
+  common::write_file_atomically(path, bytes.str());
 }
 
 LoadedCheckpoint load_checkpoint(const std::string& path,

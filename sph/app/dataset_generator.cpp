@@ -12,6 +12,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "common/checked_file.h"
 #include "common/progress.h"
 #include "common/stopwatch.h"
 #include "sph/app/scene_runner.h"
@@ -71,13 +72,7 @@ struct Moments {
 };
 
 void write_json_atomically(const fs::path& file, const nlohmann::json& j) {
-  const fs::path tmp = file.string() + ".tmp";
-  {
-    std::ofstream out(tmp);
-    out << j.dump(2) << "\n";
-    if (!out) throw SimulationError(tmp.string() + ": write failed");
-  }
-  fs::rename(tmp, file);
+  common::write_file_atomically(file, j.dump(2) + "\n");
 }
 
 // A uniform number in [0, 1) from the generator's bits (the same on every platform).
@@ -199,11 +194,18 @@ void assemble_split(const fs::path& file, const std::vector<const Part*>& parts)
     if (in >= 0) H5Fclose(in);
     if (copied < 0) {
       H5Fclose(out);
+      std::error_code ec;
+      fs::remove(tmp, ec);
       throw SimulationError(parts[k]->h5.string() + ": cannot copy the trajectory into " +
-                            file.string() + " (a damaged part: delete it to simulate it again)");
+                            file.string() +
+                            " (a damaged part: delete it to simulate it again; or a full disk)");
     }
   }
-  if (H5Fclose(out) < 0) throw SimulationError(tmp.string() + ": write failed");
+  if (H5Fclose(out) < 0) {
+    std::error_code ec;
+    fs::remove(tmp, ec);
+    throw SimulationError(file.string() + ": write failed");
+  }
   fs::rename(tmp, file);
 }
 
@@ -253,7 +255,9 @@ std::array<int, 3> split_counts(int total, const std::array<double, 3>& f) {
   return n;
 }
 
-nlohmann::json generate_dataset(const GenerateOptions& o) {
+namespace {
+
+nlohmann::json generate_into(const GenerateOptions& o) {
   if (o.trajectories < 1) throw common::InputError("--trajectories must be at least 1");
   if (o.frames == 1)
     throw common::InputError("--frames must be at least 2 (velocities need two frames)");
@@ -387,6 +391,25 @@ nlohmann::json generate_dataset(const GenerateOptions& o) {
   meta["trajectories"] = trajectories;
   write_json_atomically(o.out_dir / "metadata.json", meta);
   return meta;
+}
+
+}  // namespace
+
+nlohmann::json generate_dataset(const GenerateOptions& o) {
+  // A folder made by this call that holds no finished trajectory has nothing to resume: it is
+  // removed when generation fails (a full disk once left an empty parts/ behind).
+  const bool new_folder = !fs::exists(o.out_dir);
+  try {
+    return generate_into(o);
+  } catch (...) {
+    std::error_code ec;
+    bool finished = false;
+    for (fs::directory_iterator it(o.out_dir / "parts", ec), end; !ec && it != end;
+         it.increment(ec))
+      finished = finished || it->path().extension() == ".h5";
+    if (new_folder && !finished) fs::remove_all(o.out_dir, ec);
+    throw;
+  }
 }
 
 }  // namespace sph

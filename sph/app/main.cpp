@@ -19,6 +19,7 @@
 
 #include "common/command_line.h"
 #include "common/exit_codes.h"
+#include "common/hdf5_handles.h"
 #include "common/output_folder.h"
 #include "sph/app/dataset_generator.h"
 #include "sph/app/scene_runner.h"
@@ -46,6 +47,7 @@ int thread_count(int requested) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  common::skip_hdf5_exit_handler();
   CLI::App app{"spill-sim: two-phase SPH simulation of oil spills in rivers"};
   app.require_subcommand(1);
 

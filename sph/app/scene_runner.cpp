@@ -11,6 +11,7 @@
 #include <iostream>
 #include <sstream>
 
+#include "common/checked_file.h"
 #include "common/image_writer.h"
 #include "common/output_folder.h"
 #include "common/progress.h"
@@ -31,9 +32,7 @@ nlohmann::json vec_json(const Vec3& v) {
 }
 
 void write_json(const fs::path& file, const nlohmann::json& j) {
-  std::ofstream out(file);
-  out << j.dump(2) << "\n";
-  if (!out) throw SimulationError(file.string() + ": write failed");
+  common::write_file_atomically(file, j.dump(2) + "\n");
 }
 
 nlohmann::json frame_json(const Simulation& sim, const FrameStats& f) {

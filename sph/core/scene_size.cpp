@@ -77,9 +77,9 @@ void check_river_grid_size(const RiverGeneratorConfig& r, const std::string& fil
           })->first;
   throw ConfigError(file, pointer + "/" + key,
                     "the generated terrain would be " + amount(nx) + " x " + amount(ny) +
-                        " cells of " + amount(cell) + " m (" + amount(double(r.length)) +
-                        " m x " + amount(2 * half_span) + " m), " + bytes(need) +
-                        "; this machine has " + bytes(memory_bytes) + " of memory. Use " +
+                        " cells of " + amount(cell) + " m (" + amount(double(r.length)) + " m x " +
+                        amount(2 * half_span) + " m), " + bytes(need) + "; this machine has " +
+                        bytes(memory_bytes) + " of memory. Use " +
                         (key == "cell_size" ? "a larger cell_size"
                                             : "a smaller " + key + " or a larger cell_size"));
 }
@@ -100,7 +100,8 @@ std::vector<ScenePart> estimate_particles(const SceneConfig& s) {
     const auto& f = s.height_fields[i];
     const double lx = double(f.cell_size) * double(f.heights[0].size() - 1);
     const double ly = double(f.cell_size) * double(f.heights.size() - 1);
-    parts.push_back({"/height_fields/" + std::to_string(i), points_along(lx, d) * points_along(ly, d)});
+    parts.push_back(
+        {"/height_fields/" + std::to_string(i), points_along(lx, d) * points_along(ly, d)});
   }
   for (size_t i = 0; i < s.fluid_blocks.size(); ++i) {
     const Vec3 e = s.fluid_blocks[i].max - s.fluid_blocks[i].min;
@@ -111,7 +112,8 @@ std::vector<ScenePart> estimate_particles(const SceneConfig& s) {
   if (s.terrain_grid) {
     const Terrain& t = *s.terrain_grid;
     const double cell = double(t.cell_size);
-    parts.push_back({"/terrain", points_along(cell * (t.nx - 1), d) * points_along(cell * (t.ny - 1), d)});
+    parts.push_back(
+        {"/terrain", points_along(cell * (t.nx - 1), d) * points_along(cell * (t.ny - 1), d)});
     const double level = double(s.terrain->water_level);
     if (s.terrain->fill_water) {
       double water_volume = 0;
@@ -126,7 +128,7 @@ std::vector<ScenePart> estimate_particles(const SceneConfig& s) {
       double section = 0;
       for (int iy = 0; iy < t.ny; ++iy)
         section += std::max(0.0, level - double(t.height_at(s.flow->inflow_x,
-                                                             t.origin_y + t.cell_size * Real(iy)))) *
+                                                            t.origin_y + t.cell_size * Real(iy)))) *
                    cell;
       const double layers = std::max(2.0, double(s.flow->reserve_s) * double(s.flow->speed) / d);
       parts.push_back({"/flow/reserve_s", layers * section / (d * d)});
@@ -166,8 +168,8 @@ void check_scene_size(const SceneConfig& s, const std::string& file, double memo
     throw ConfigError(file, largest->pointer,
                       "the scene would need about " + amount(total) + " particles at " +
                           "/particle_radius " + amount(double(s.particle_radius)) + " m (" +
-                          amount(largest->particles) + " here), " + bytes(need) +
-                          " at " + amount(kBytesPerParticle) + " bytes each; this machine has " +
+                          amount(largest->particles) + " here), " + bytes(need) + " at " +
+                          amount(kBytesPerParticle) + " bytes each; this machine has " +
                           bytes(memory_bytes) + " of memory" +
                           (total <= kMaxParticles ? "" : " and particles are counted in 32 bits") +
                           ". Make this part smaller or /particle_radius larger");

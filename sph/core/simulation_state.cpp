@@ -123,7 +123,10 @@ void Simulation::save_state(const std::string& file) const {
     std::remove(tmp.c_str());
     throw;
   }
-  if (H5Fclose(f) < 0) throw SimulationError(tmp + ": write failed");
+  if (H5Fclose(f) < 0) {
+    std::remove(tmp.c_str());
+    throw SimulationError(file + ": write failed");
+  }
   std::filesystem::rename(tmp, file);
 }
 

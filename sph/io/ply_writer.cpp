@@ -34,6 +34,7 @@ void write_ply(const std::string& file, const PlyPoints& points) {
     std::memcpy(record.data() + 7 * sizeof(float) + sizeof(type), &oil, sizeof(oil));
     out.write(record.data(), std::streamsize(record.size()));
   }
+  out.close();
   if (!out) throw SimulationError(file + ": write failed");
 }
 

@@ -7,6 +7,7 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 
+#include "tests/common/file_size_limit.h"
 #include "tests/gnn/tiny_dataset.h"
 
 namespace fs = std::filesystem;
@@ -82,5 +83,43 @@ TEST(Cli, TrainRollOutAndEvaluateOnATinyDataset) {
   tiny::rewrite_split(dir / "data", "test", 20, true);
   EXPECT_EQ(run(infer + " eval" + ckpt + " --out " + (dir / "empty_eval").string()), 2);
   EXPECT_FALSE(fs::exists(dir / "empty_eval"));
+  fs::remove_all(dir);
+}
+
+// A full disk (files limited in size): training, rollout and evaluation exit 1 naming the file,
+// with no signal (LibTorch's checkpoint writer aborted; HDF5 segfaulted at exit) and nothing
+// half-written (last.pt.tmp, an empty config.json and log.csv, a staging folder).
+TEST(Cli, AFullDiskIsAnErrorNamingTheFileAndLeavesNothing) {
+  const fs::path dir = fs::temp_directory_path() / ("gnn_full_disk_" + std::to_string(getpid()));
+  fs::remove_all(dir);
+  tiny::write(dir / "data");
+  const std::string data = (dir / "data").string();
+  const std::string train = std::string(SPILL_TRAIN_EXE) + " --config " + SPILL_SOURCE_DIR +
+                            "/configs/training/gns_smoke.json --data " + data +
+                            " --threads 1 --set /steps=10 --set /checkpoint_every=10";
+  ASSERT_EQ(run(train + " --out " + (dir / "run").string()), 0);
+  const std::string infer = std::string(SPILL_INFER_EXE) + " ";
+  const std::string ckpt =
+      " --checkpoint " + (dir / "run/last.pt").string() + " --data " + data + " --threads 1";
+  const fs::path out = dir / "out", log = dir / "log.txt";
+  const std::vector<std::pair<std::string, int>> cases = {
+      {train + " --out " + out.string(), 0},                                  // log.csv
+      {train + " --out " + out.string(), 40},                                 // last.pt
+      {infer + "rollout" + ckpt + " --frames 10 --out " + out.string(), 0},   // metadata.json
+      {infer + "rollout" + ckpt + " --frames 10 --out " + out.string(), 16},  // rollout.h5
+      {infer + "eval" + ckpt + " --out " + out.string(), 0}};                 // eval.json
+  for (const auto& [command, blocks] : cases) {
+    SCOPED_TRACE(command + " with files limited to " + std::to_string(blocks) + " blocks");
+    const auto r = testing_support::run_with_file_size_limit(command, blocks, log);
+    EXPECT_EQ(r.exit_code, 1) << r.output;
+    EXPECT_NE(r.output.find(dir.string()), std::string::npos) << r.output;
+    EXPECT_TRUE(r.output.find("cannot write") != std::string::npos ||
+                r.output.find("failed") != std::string::npos)
+        << r.output;
+    for (const auto& e : fs::directory_iterator(dir)) {
+      const std::string name = e.path().filename().string();
+      EXPECT_TRUE(name == "data" || name == "run") << "left over: " << e.path();
+    }
+  }
   fs::remove_all(dir);
 }

@@ -13,6 +13,7 @@
 #include "sph/app/scene_runner.h"
 #include "sph/core/config.h"
 #include "sph/core/simulation_error.h"
+#include "tests/common/file_size_limit.h"
 
 namespace sph {
 namespace {
@@ -301,6 +302,45 @@ TEST(RunOutputs, ParticleLeavingTheDomainStopsTheRunAndWritesNothing) {
     EXPECT_NE(m.find("particle "), std::string::npos) << m;
   }
   EXPECT_TRUE(fs::is_empty(dir)) << "no output and no staging folder may remain";
+  fs::remove_all(dir);
+}
+
+// A full disk, reached at the first file, at a picture and at the trajectory: the command exits
+// 1 naming the file (it used to segfault in HDF5's exit handler after "failed to close the
+// file") and leaves neither the run folder nor a staging folder. The same for `generate`.
+TEST(RunOutputs, AFullDiskIsAnErrorNamingTheFileAndLeavesNothing) {
+  const fs::path dir = fresh_dir("spill_run_full_disk");
+  std::ofstream(dir / "small.json") << small_scene().dump();
+  const fs::path log = fs::temp_directory_path() / "spill_run_full_disk.txt";
+  const std::string sim = std::string(SPILL_SIM_EXE) + " ";
+  const std::string scene = " --scene " + (dir / "small.json").string();
+  const std::vector<std::string> commands = {
+      sim + "run" + scene + " --out " + (dir / "out").string() + " --png",
+      sim + "generate" + scene + " --trajectories 2 --split 0.5/0.5/0 --out " +
+          (dir / "out").string()};
+  for (const auto& command : commands)
+    for (int blocks : {0, 8, 64}) {  // of 512 bytes: metadata.json, a picture, the trajectory
+      SCOPED_TRACE(command + " with files limited to " + std::to_string(blocks) + " blocks");
+      const auto r = testing_support::run_with_file_size_limit(command, blocks, log);
+      EXPECT_EQ(r.exit_code, 1) << r.output;
+      EXPECT_NE(r.output.find(dir.string()), std::string::npos) << r.output;
+      EXPECT_TRUE(r.output.find("cannot write") != std::string::npos ||
+                  r.output.find("failed") != std::string::npos)
+          << r.output;
+      // Only generate keeps a folder, and only for finished trajectories (to resume them); no
+      // half-written file stays anywhere.
+      bool finished = false;
+      for (const auto& e : fs::recursive_directory_iterator(dir)) {
+        EXPECT_NE(e.path().extension(), ".tmp") << "left over: " << e.path();
+        finished = finished || e.path().extension() == ".h5";
+      }
+      for (const auto& e : fs::directory_iterator(dir)) {
+        if (!(finished && e.path().filename() == "out")) {
+          EXPECT_EQ(e.path().filename(), "small.json") << "left over: " << e.path();
+        }
+      }
+      fs::remove_all(dir / "out");
+    }
   fs::remove_all(dir);
 }
 

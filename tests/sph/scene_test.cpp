@@ -278,9 +278,10 @@ TEST(Scene, ScenesTooLargeForTheMachineAreRefusedNamingTheKey) {
   expect_refused(river, {"/leaks/0/rate=1e6"}, "/leaks/0/rate", "particles");
   expect_refused(river, {"/leaks/0/radius=1e9"}, "/leaks/0/radius", "particles");
   expect_refused(river, {"/domain/max/0=1e9"}, "/domain", "neighbour grid");
-  expect_refused(kScenes + "/hydrostatic.json",
-                 {"/particle_radius=1e-4", "/materials/water/viscosity=0", "/time_step/dt_min=1e-9"},
-                 "/fluid_blocks/0", "particles");
+  expect_refused(
+      kScenes + "/hydrostatic.json",
+      {"/particle_radius=1e-4", "/materials/water/viscosity=0", "/time_step/dt_min=1e-9"},
+      "/fluid_blocks/0", "particles");
   // The memory bound is the machine's: the tank (~4k particles, ~3 MB) fits in 1 GB, not in 1 MB.
   const LoadedScene tank = load_scene(kScenes + "/hydrostatic.json");
   EXPECT_NO_THROW(check_scene_size(tank.config, "t.json", 1e9));
