@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include "common/json_shape.h"
 #include "sph/io/tensor_recorder.h"
 
 namespace gnn {
@@ -143,6 +144,22 @@ DatasetMetadata read_metadata(const std::string& file) {
   m.acc_std = vec_tensor(read_vec3(m.raw, "acc_std", file));
   if ((m.vel_std <= 0).any().item<bool>() || (m.acc_std <= 0).any().item<bool>())
     fail(file, "vel_std and acc_std must be positive");
+  // The optional parts read later (per-trajectory split, timing and materials, particle types):
+  // checked here once, so a damaged file is named with its key rather than failing later as a
+  // raw JSON type error.
+  using common::JsonKind;
+  using common::optional_json;
+  optional_json(m.raw, "/particle_types", JsonKind::kObject, file);
+  optional_json(m.raw, "/scene", JsonKind::kObject, file);
+  optional_json(m.raw, "/scene/materials", JsonKind::kObject, file);
+  if (const auto* list = optional_json(m.raw, "/trajectories", JsonKind::kArray, file))
+    for (size_t k = 0; k < list->size(); ++k) {
+      const std::string at = "/trajectories/" + std::to_string(k);
+      common::require_json(m.raw, at, JsonKind::kObject, file);
+      optional_json(m.raw, at + "/split", JsonKind::kString, file);
+      optional_json(m.raw, at + "/sph_seconds_per_frame", JsonKind::kNumber, file);
+      optional_json(m.raw, at + "/parameters", JsonKind::kObject, file);
+    }
   return m;
 }
 

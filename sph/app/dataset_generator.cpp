@@ -13,6 +13,7 @@
 #include <stdexcept>
 
 #include "common/checked_file.h"
+#include "common/json_shape.h"
 #include "common/progress.h"
 #include "common/stopwatch.h"
 #include "sph/app/scene_runner.h"
@@ -85,6 +86,25 @@ std::string number_text(double v) {
   s.precision(17);
   s << v;
   return s.str();
+}
+
+// A finished trajectory's description, checked key by key: a damaged part file is named with its
+// key (it once failed as a raw JSON type error naming nothing). Deleting the part simulates it
+// again.
+nlohmann::json read_part_info(const fs::path& file) {
+  using common::JsonKind;
+  const std::string name = file.string();
+  const nlohmann::json j = load_json_file(name, "trajectory part description");
+  common::require_json(j, "/parameters", JsonKind::kObject, name);
+  common::require_json(j, "/split", JsonKind::kString, name);
+  if (common::require_json(j, "/frames", JsonKind::kInteger, name).get<long>() < 2)
+    throw ConfigError(name, "/frames", "expected at least 2");
+  for (const char* moments : {"/velocity_moments", "/acceleration_moments"}) {
+    common::require_json(j, std::string(moments) + "/count", JsonKind::kNumber, name);
+    common::require_json(j, std::string(moments) + "/sum", JsonKind::kVector3, name);
+    common::require_json(j, std::string(moments) + "/sum_sq", JsonKind::kVector3, name);
+  }
+  return j;
 }
 
 struct Part {
@@ -323,8 +343,7 @@ nlohmann::json generate_into(const GenerateOptions& o) {
     part.h5 = parts_dir / ("trajectory_" + group_name(k) + ".h5");
     const fs::path info = parts_dir / ("trajectory_" + group_name(k) + ".json");
     if (fs::exists(info) && fs::exists(part.h5)) {
-      std::ifstream in(info);
-      part.info = nlohmann::json::parse(in);
+      part.info = read_part_info(info);
       if (part.info.at("parameters") != drawn[size_t(k)] ||
           part.info.at("split") != kSplitNames[split])
         throw ConfigError(info.string(), "/parameters",

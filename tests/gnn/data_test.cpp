@@ -93,6 +93,33 @@ TEST(Dataset, MetadataWithoutStatisticsIsAnError) {
   fs::remove_all(dir);
 }
 
+// The optional parts of metadata.json read later (per-trajectory split, timing and parameters,
+// materials, particle types) are checked at load: a damaged one names the file and the key
+// instead of surfacing as a raw JSON type error.
+TEST(Dataset, DamagedOptionalMetadataIsAnErrorNamingTheKey) {
+  const fs::path dir = temp_dir("meta_optional");
+  tiny::write(dir);
+  nlohmann::json original;
+  std::ifstream(dir / "metadata.json") >> original;
+  const std::vector<std::pair<std::string, nlohmann::json>> damages = {
+      {"/trajectories", 3},         {"/particle_types", nlohmann::json::array({0})},
+      {"/scene", "river"},          {"/scene/materials", 1},
+      {"/trajectories/0/split", 5}, {"/trajectories/1/sph_seconds_per_frame", "fast"}};
+  for (const auto& [pointer, value] : damages) {
+    nlohmann::json m = original;
+    m[nlohmann::json::json_pointer(pointer)] = value;
+    std::ofstream(dir / "metadata.json", std::ios::trunc) << m.dump();
+    try {
+      gnn::read_metadata((dir / "metadata.json").string());
+      ADD_FAILURE() << pointer << ": accepted";
+    } catch (const common::ConfigError& e) {
+      EXPECT_EQ(e.pointer(), pointer) << e.what();
+      EXPECT_EQ(e.file(), (dir / "metadata.json").string());
+    }
+  }
+  fs::remove_all(dir);
+}
+
 TEST(FrameWindow, EmittedParticlesGetAHistoryAlongTheirLaunchVelocity) {
   const fs::path dir = temp_dir("window");
   tiny::write(dir);

@@ -168,6 +168,20 @@ TEST_F(Generate, ResumesWithoutRedoingAndMatchesAnUninterruptedRun) {
   changed.overrides.push_back("/particle_radius=0.021");
   expect_refused(changed, "/scene/particle_radius");
   EXPECT_EQ(read_json(o.out_dir / "metadata.json"), resumed) << "the dataset is untouched";
+  // A damaged part description is named with its key (it was a raw JSON type error).
+  const fs::path part = o.out_dir / "parts" / "trajectory_00001.json";
+  nlohmann::json damaged = read_json(part);
+  damaged["acceleration_moments"]["sum"] = {1, 2};
+  std::ofstream(part, std::ios::trunc) << damaged.dump();
+  try {
+    generate_dataset(o);
+    ADD_FAILURE() << "a damaged part was accepted";
+  } catch (const ConfigError& e) {
+    EXPECT_EQ(e.file(), part.string());
+    EXPECT_EQ(e.pointer(), "/acceleration_moments/sum");
+  }
+  std::ofstream(part, std::ios::trunc) << "{\"parameters\": ";  // truncated
+  EXPECT_THROW(generate_dataset(o), ConfigError);
 }
 
 TEST(GenerateInput, BadRequestsAreClearErrors) {
