@@ -68,8 +68,8 @@ void check_inside_domain(const SceneConfig& s, const std::string& file) {
     if (d.contains(lo) && d.contains(hi)) return;
     throw ConfigError(file, pointer,
                       what + " spans " + format_point(lo) + " to " + format_point(hi) +
-                          ", beyond /domain " + format_point(d.min) + " to " +
-                          format_point(d.max) + ": grow /domain or shrink the part");
+                          ", beyond /domain " + format_point(d.min) + " to " + format_point(d.max) +
+                          ": grow /domain or shrink the part");
   };
   for (size_t i = 0; i < s.fluid_blocks.size(); ++i)
     require(s.fluid_blocks[i].min, s.fluid_blocks[i].max, "/fluid_blocks/" + std::to_string(i),
@@ -116,6 +116,16 @@ void check_consistency(const SceneConfig& s, const std::string& file) {
       !(s.terrain && s.terrain->fill_water) && !s.flow)
     throw ConfigError(file, "/fluid_blocks",
                       "expected at least one fluid block, emitter or water-filled terrain");
+  // A block thinner than a particle diameter holds no particle: it vanished silently, and a
+  // scene of such blocks ran with no fluid at all, exit 0.
+  const double d = double(s.particle_diameter());
+  for (size_t i = 0; i < s.fluid_blocks.size(); ++i)
+    for (int k = 0; k < 3; ++k)
+      if (std::floor(double(s.fluid_blocks[i].max[k] - s.fluid_blocks[i].min[k]) / d + 1e-4) < 1)
+        throw ConfigError(file, "/fluid_blocks/" + std::to_string(i),
+                          "thinner than one particle diameter (" + number(d) +
+                              " m, from /particle_radius) along axis " + std::to_string(k) +
+                              ": it would hold no particle");
   if (s.domain) check_inside_domain(s, file);
 }
 

@@ -181,6 +181,7 @@ struct SceneConfig {
     v.field("particle_radius", particle_radius,
             param("m", "Fluid particle radius; particles are spaced one diameter apart")
                 .positive()
+                .at_most(10)
                 .require());
     v.field("support_factor", support_factor,
             param("", "Kernel support radius in particle radii").at_least(2).at_most(8));

@@ -1,5 +1,6 @@
 #include "sph/core/scene_size.h"
 
+#include <sys/resource.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -41,8 +42,15 @@ double points_along(double length, double spacing) {
 
 double physical_memory_bytes() {
   const long pages = sysconf(_SC_PHYS_PAGES), page = sysconf(_SC_PAGE_SIZE);
-  if (pages <= 0 || page <= 0) return 1e12;  // unknown: do not refuse on memory
-  return double(pages) * double(page);
+  double bytes = pages > 0 && page > 0 ? double(pages) * double(page) : 1e15;  // unknown: no bound
+  // A process limited below the machine (ulimit -v or -d, as the input fuzzer runs it) can use
+  // only that much.
+  for (const int resource : {RLIMIT_AS, RLIMIT_DATA}) {
+    rlimit limit{};
+    if (getrlimit(resource, &limit) == 0 && limit.rlim_cur != RLIM_INFINITY)
+      bytes = std::min(bytes, double(limit.rlim_cur));
+  }
+  return bytes;
 }
 
 void check_river_grid_size(const RiverGeneratorConfig& r, const std::string& file,

@@ -15,7 +15,7 @@ namespace sph {
 // size of the tank (hydrostatic.json) at 56k and 148k particles. A floor, not a ceiling.
 constexpr double kBytesPerParticle = 700;
 
-// The machine's physical memory in bytes.
+// The memory this process may use in bytes: the machine's, or less under a resource limit.
 double physical_memory_bytes();
 
 // Refuses a generated river whose height grid cannot be held in `memory_bytes` or indexed by an

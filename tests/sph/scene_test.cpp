@@ -222,6 +222,13 @@ TEST(Scene, ValuesThatCannotRunAreRefusedNamingTheKey) {
   j = minimal_scene();
   j["emitters"] = {{{"centre", {0.5, 0.5, 0.8}}, {"rate", 1e7}, {"stop", 1.0}, {"speed", 1e12}}};
   expect_error(j, "/emitters/0/rate", "particles");
+  // A fluid block thinner than a particle diameter held no particle, silently (the whole scene
+  // ran with no fluid, exit 0), and a radius of 1e308 made the support radius infinite.
+  j = minimal_scene();
+  j["particle_radius"] = 0.3;
+  expect_error(j, "/fluid_blocks/0", "thinner than one particle diameter");
+  j["particle_radius"] = 1e308;
+  expect_error(j, "/particle_radius", "expected <= 10");
   // A number JSON cannot hold, and a scene path that is a folder.
   const std::string hydrostatic = kScenes + "/hydrostatic.json";
   try {
