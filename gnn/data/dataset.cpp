@@ -258,6 +258,21 @@ std::vector<Trajectory> read_split(const std::string& dir, const std::string& sp
     auto active_positions = t.position.index({t.active});
     if (!torch::isfinite(active_positions).all().item<bool>())
       fail(where + "/position", "holds NaN or infinite values for active particles");
+    // The simulator stops a run whose particle leaves its domain, so an active particle beyond
+    // the bounds (by more than a connectivity radius) is a damaged file, not physics.
+    for (int k = 0; k < 3; ++k) {
+      const double margin = metadata.connectivity_radius;
+      const auto axis = active_positions.select(1, k);
+      if (axis.numel() > 0 && (axis.min().item<double>() < metadata.bounds[k][0] - margin ||
+                               axis.max().item<double>() > metadata.bounds[k][1] + margin))
+        fail(where + "/position",
+             "active particles reach " + std::to_string(axis.min().item<double>()) + " .. " +
+                 std::to_string(axis.max().item<double>()) + " along axis " + std::to_string(k) +
+                 ", beyond the dataset's bounds " + std::to_string(metadata.bounds[k][0]) + " .. " +
+                 std::to_string(metadata.bounds[k][1]));
+    }
+    if (!torch::isfinite(t.boundary).all().item<bool>())
+      fail(where + "/boundary_position", "holds NaN or infinite values");
     const int64_t entry = g < metadata_index.size() ? metadata_index[g] : -1;
     t.material =
         material_table(entry >= 0 ? trajectory_materials(metadata.raw, entry)

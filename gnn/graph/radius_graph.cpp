@@ -41,8 +41,10 @@ torch::Tensor to_tensor(const std::vector<int64_t>& v) {
 
 }  // namespace
 
-RadiusGraph build_radius_graph(const torch::Tensor& fluid_positions,
-                               const torch::Tensor& boundary_positions, double radius) {
+namespace {
+
+RadiusGraph build_unchecked(const torch::Tensor& fluid_positions,
+                            const torch::Tensor& boundary_positions, double radius) {
   const auto fluid = to_points(fluid_positions);
   const auto boundary = to_points(boundary_positions);
   for (const auto& p : fluid)
@@ -88,6 +90,8 @@ RadiusGraph build_radius_graph(const torch::Tensor& fluid_positions,
   return g;
 }
 
+}  // namespace
+
 RadiusGraph brute_force_radius_graph(const torch::Tensor& fluid_positions,
                                      const torch::Tensor& boundary_positions, double radius) {
   const auto fluid = to_points(fluid_positions);
@@ -119,6 +123,21 @@ RadiusGraph brute_force_radius_graph(const torch::Tensor& fluid_positions,
   g.boundary_nodes = to_tensor(kept);
   g.edge_index = torch::stack({to_tensor(senders), to_tensor(receivers)});
   return g;
+}
+
+RadiusGraph build_radius_graph(const torch::Tensor& fluid_positions,
+                               const torch::Tensor& boundary_positions, double radius) {
+  try {
+    return build_unchecked(fluid_positions, boundary_positions, radius);
+  } catch (const sph::PointOutsideDomain& e) {
+    // The grid spans the points themselves, so only coordinates too large for its float cells
+    // get here: a rollout that has blown up, or positions no simulator wrote.
+    const sph::Vec3 p = e.point();
+    throw std::runtime_error("radius graph: a position (" + std::to_string(p[0]) + ", " +
+                             std::to_string(p[1]) + ", " + std::to_string(p[2]) +
+                             ") is too far out for a neighbour grid of radius " +
+                             std::to_string(radius));
+  }
 }
 
 }  // namespace gnn

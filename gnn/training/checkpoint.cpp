@@ -117,6 +117,8 @@ LoadedCheckpoint load_checkpoint(const std::string& path,
   } catch (const c10::Error& e) {
     throw CheckpointError(
         path + ": not a LibTorch checkpoint (or damaged): " + e.what_without_backtrace());
+  } catch (const std::exception& e) {  // TorchScript's parser reports a damaged pickle so
+    throw CheckpointError(path + ": not a LibTorch checkpoint (or damaged): " + e.what());
   }
   if (read_text(archive, "format", path) != kFormat)
     throw CheckpointError(path + ": a checkpoint of another format version");
@@ -188,11 +190,20 @@ LoadedCheckpoint load_checkpoint(const std::string& path,
 
 void load_optimizer_state(const std::string& path, torch::optim::Optimizer& optimizer) {
   torch::serialize::InputArchive archive;
-  archive.load_from(path);
   torch::serialize::InputArchive optimizer_archive;
-  if (!archive.try_read("optimizer", optimizer_archive))
-    throw CheckpointError(path + ": holds no optimiser state to resume from");
-  optimizer.load(optimizer_archive);
+  try {
+    archive.load_from(path);
+    if (!archive.try_read("optimizer", optimizer_archive))
+      throw CheckpointError(path + ": holds no optimiser state to resume from");
+    optimizer.load(optimizer_archive);
+  } catch (const c10::Error& e) {
+    // A damaged file surfaced as LibTorch's own parser message, naming no file.
+    throw CheckpointError(path + ": damaged optimiser state: " + e.what_without_backtrace());
+  } catch (const CheckpointError&) {
+    throw;
+  } catch (const std::exception& e) {
+    throw CheckpointError(path + ": damaged optimiser state: " + e.what());
+  }
 }
 
 void check_data_fits(const nlohmann::json& d, const DatasetMetadata& m, const std::string& path) {

@@ -87,9 +87,10 @@ int main(int argc, char** argv) {
                                         "--out",     (dir / "out").string(),
                                         "--threads", "1"};
     if (rng() % 4 == 0) command.push_back("--png");
+    std::ofstream(dir / "case.txt") << what << "\n";  // what was done, for a look
     const fs::path log = dir / "log.txt";
     const auto outcome = fuzz::run_child(command, log, timeout_s, memory_mb * 1048576.0);
-    const std::string problem = fuzz::judge(outcome, log, dir, {"scene.json"});
+    const std::string problem = fuzz::judge(outcome, log, dir, {"scene.json", "case.txt"});
     report.add(outcome, problem, what, dir, log);
     if (problem.empty() && !keep)
       fs::remove_all(dir);
