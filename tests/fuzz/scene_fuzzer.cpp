@@ -94,7 +94,7 @@ int main(int argc, char** argv) {
     report.add(outcome, problem, what, dir, log);
     if (problem.empty() && !keep)
       fs::remove_all(dir);
-    else
+    else if (!problem.empty())
       std::cerr << "case " << c << ": " << problem << ": " << what << "\n";
     if ((c + 1) % 50 == 0) std::cerr << "scene_fuzzer: " << c + 1 << "/" << cases << " cases\n";
   }

@@ -289,6 +289,9 @@ TEST(Scene, ScenesTooLargeForTheMachineAreRefusedNamingTheKey) {
       kScenes + "/hydrostatic.json",
       {"/particle_radius=1e-4", "/materials/water/viscosity=0", "/time_step/dt_min=1e-9"},
       "/fluid_blocks/0", "particles");
+  auto j = minimal_scene();
+  j["height_fields"] = {{{"origin", {0, 0, 0}}, {"cell_size", 1e5}, {"heights", {{0, 0}, {0, 0}}}}};
+  expect_error(j, "/height_fields/0", "particles");
   // The memory bound is the machine's: the tank (~4k particles, ~3 MB) fits in 1 GB, not in 1 MB.
   const LoadedScene tank = load_scene(kScenes + "/hydrostatic.json");
   EXPECT_NO_THROW(check_scene_size(tank.config, "t.json", 1e9));
