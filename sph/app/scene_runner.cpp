@@ -221,12 +221,20 @@ nlohmann::json run_scene(const LoadedScene& scene, const RunOptions& options) {
         *scene.config.terrain_grid, scene.config.terrain->water_level, leak_x,
         scene.config.particle_diameter(), scene.config.watch_points);
   }
+  // The slick's shape for oil on still water (a tank, no river leak).
+  std::unique_ptr<StillWaterSlickMetrics> slick;
+  bool has_oil = false;
+  for (const auto& b : scene.config.fluid_blocks) has_oil = has_oil || b.oil_fraction() > 0;
+  for (const auto& e : scene.config.emitters) has_oil = has_oil || e.material == "oil";
+  if (!spill && has_oil)
+    slick = std::make_unique<StillWaterSlickMetrics>(scene.config.particle_diameter());
   auto record = [&](int frame) {
     if (spill) {
       double released = 0;
       for (const auto& e : sim.emitters()) released += e.oil_released();
       spill->measure(sim.fluid(), sim.time(), released);
     }
+    if (slick) slick->measure(sim.fluid(), sim.time());
     std::vector<std::uint8_t> active(sim.fluid().size(), 0);
     for (Index i = 0; i < sim.fluid().active_count(); ++i) active[sim.fluid().id[i]] = 1;
     const FluidParticles& f = sim.fluid();
@@ -272,6 +280,11 @@ nlohmann::json run_scene(const LoadedScene& scene, const RunOptions& options) {
     write_json(staging / "spill.json", spill->to_json());
     write_spill_plot((staging / "spill.svg").string(), spill->frames(),
                      scene.config.name + ": spill metrics");
+  }
+  if (slick) {
+    write_json(staging / "spill.json", slick->to_json());
+    write_slick_plot((staging / "spill.svg").string(), slick->frames(),
+                     scene.config.name + ": slick on still water");
   }
   if (options.log) progress.finish(std::to_string(sim.steps()) + " steps");
 

@@ -2,6 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <vector>
+
+#include "sph/core/lattice.h"
 
 namespace sph {
 
@@ -29,6 +32,47 @@ constexpr int kLawIntervals = 1024;
 
 }  // namespace
 
+Real tension_per_strength(KernelKind kernel, Real support_radius, Real spacing, Real volume,
+                          Real reference_density) {
+  const double h = double(support_radius), d = double(spacing);
+  // psi(r) = int_r^h cos(3 pi r' / 2h) W(r') dr', the pair potential per rho_ref s V^2, by
+  // Simpson's rule on a table over [0, h].
+  constexpr int kSteps = 2000;
+  std::vector<double> psi(kSteps + 1, 0.0);
+  with_kernel(kernel, support_radius, [&](const auto& w) {
+    auto f = [&](double r) { return std::cos(1.5 * kPi * r / h) * double(w.value(Real(r))); };
+    const double dr = h / kSteps;
+    for (int k = kSteps - 1; k >= 0; --k) {
+      const double a = k * dr;
+      psi[size_t(k)] = psi[size_t(k + 1)] + dr / 6 * (f(a) + 4 * f(a + dr / 2) + f(a + dr));
+    }
+    return 0;
+  });
+  auto psi_at = [&](double r) {
+    const double t = std::min(r / h, 1.0) * kSteps;
+    const int k = std::min(int(t), kSteps - 1);
+    return psi[size_t(k)] + (t - k) * (psi[size_t(k + 1)] - psi[size_t(k)]);
+  };
+  // One column of the lattice above the plane z = 0 (centres at d/2, 3d/2, ...) against every
+  // particle below it (-d/2, -3d/2, ...) within reach: the pairs crossing an area d^2.
+  const int reach = int(std::ceil(h / d)) + 1;
+  double sum = 0;
+  for (int above = 0; above < reach; ++above)
+    for (int below = 0; below < reach; ++below)
+      for (int x = -reach; x <= reach; ++x)
+        for (int y = -reach; y <= reach; ++y) {
+          const double dz = (above + below + 1) * d;
+          const double r = std::sqrt(dz * dz + (x * x + y * y) * d * d);
+          if (r < h) sum += psi_at(r);
+        }
+  return Real(-double(reference_density) * double(volume) * double(volume) * sum / (2 * d * d));
+}
+
+PairStrengths pair_strengths(const SurfaceTensionConfig& c, Real lambda) {
+  return {c.water_air / lambda, c.oil_air / lambda,
+          (c.water_air + c.oil_air - c.oil_water) / (2 * lambda)};
+}
+
 void SurfaceTensionForce::tabulate_pair_law(KernelKind kernel, Real support_radius) {
   law_kernel_ = kernel;
   law_support_radius_ = support_radius;
@@ -44,6 +88,9 @@ void SurfaceTensionForce::tabulate_pair_law(KernelKind kernel, Real support_radi
     }
   });
   law_scale_ = Real(kLawIntervals) / (support_radius * support_radius);
+  const Real volume = lattice_rest_volume(kernel, support_radius, spacing_);
+  strengths_ = pair_strengths(
+      config_, tension_per_strength(kernel, support_radius, spacing_, volume, reference_density_));
 }
 
 NonPressureForceEntry SurfaceTensionForce::entry() {
@@ -62,6 +109,7 @@ SurfaceTensionForce::SurfaceTensionForce(const SurfaceTensionConfig& config, Rea
                                          Real support_radius, Real reference_density)
     : config_(config),
       reference_density_(reference_density),
+      spacing_(particle_spacing),
       surface_neighbour_count_(
           Index(config.surface_neighbour_fraction *
                 Real(full_neighbour_count(particle_spacing, support_radius)))) {}
@@ -83,7 +131,8 @@ void SurfaceTensionForce::add_acceleration(FluidParticles& fluid, const Boundary
   };
   const Vec3* x = fluid.position.data();
   const ParticleType* type = fluid.type.data();
-  const Real s_like = config_.like, s_unlike = config_.unlike, s_wall = config_.boundary;
+  const Real s_water = strengths_.water, s_oil = strengths_.oil, s_mixed = strengths_.oil_water;
+  const Real s_wall = config_.boundary;
 #pragma omp parallel for schedule(dynamic, 64)
   for (long li = 0; li < n; ++li) {
     const Index i = Index(li);
@@ -98,7 +147,7 @@ void SurfaceTensionForce::add_acceleration(FluidParticles& fluid, const Boundary
     for (Index k = begin; k < end; ++k) {
       const Index j = ff.lists.indices[k];
       const Vec3 xij = x[i] - x[j];
-      const Real s = type[j] == type[i] ? s_like : s_unlike;
+      const Real s = type[j] != type[i] ? s_mixed : type[i] == ParticleType::kOil ? s_oil : s_water;
       a += (s * fluid.rest_volume[j] * pair_law(xij.squaredNorm())) * xij;
     }
     if (s_wall != 0) {

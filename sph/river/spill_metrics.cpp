@@ -40,13 +40,13 @@ const SpillFrame& SpillMetrics::measure(const FluidParticles& f, double t, doubl
   SpillFrame frame;
   frame.t = t;
   frame.oil_released_m3 = oil_released;
-  std::set<std::pair<long, long>> cells;
+  frame.slick = measure_slick(f, cell_);
+  frame.oil_in_reach_m3 = frame.slick.oil_volume_m3;
+  frame.slick_area_m2 = frame.slick.area_m2;
   bool any_oil = false;
   for (Index i = 0; i < f.active_count(); ++i) {
-    frame.oil_in_reach_m3 += double(f.oil_fraction[i]) * double(f.rest_volume[i]);
     if (f.oil_fraction[i] < Real(0.5)) continue;
     const Vec3& p = f.position[i];
-    cells.insert({long(std::floor(p.x() / cell_)), long(std::floor(p.y() / cell_))});
     const double ahead = double(p.x() - leak_x_);
     frame.front_distance_m = any_oil ? std::max(frame.front_distance_m, ahead) : ahead;
     any_oil = true;
@@ -61,7 +61,6 @@ const SpillFrame& SpillMetrics::measure(const FluidParticles& f, double t, doubl
     }
   }
   frame.front_distance_m = std::max(0.0, frame.front_distance_m);
-  frame.slick_area_m2 = double(cells.size()) * double(cell_) * double(cell_);
   frame.left_bank_m = double(left_bins_.size()) * double(cell_);
   frame.right_bank_m = double(right_bins_.size()) * double(cell_);
   frames_.push_back(frame);
@@ -83,7 +82,10 @@ nlohmann::json SpillMetrics::to_json() const {
                       {"left_bank_oiled_m", f.left_bank_m},
                       {"right_bank_oiled_m", f.right_bank_m},
                       {"oil_released_m3", f.oil_released_m3},
-                      {"oil_in_reach_m3", f.oil_in_reach_m3}});
+                      {"oil_in_reach_m3", f.oil_in_reach_m3},
+                      {"equivalent_radius_m", f.slick.equivalent_radius_m},
+                      {"mean_thickness_m", f.slick.mean_thickness_m},
+                      {"patches", f.slick.patches}});
   nlohmann::json arrivals = nlohmann::json::object();
   for (const auto& w : watch_points_) {
     const auto a = arrival(w.name);
@@ -104,6 +106,9 @@ nlohmann::json SpillMetrics::to_json() const {
             {"right_bank_oiled_m", "the same for the right bank"},
             {"oil_released_m3", "oil released by the leaks so far"},
             {"oil_in_reach_m3", "oil volume in the active particles"},
+            {"equivalent_radius_m", "radius of a disc of the slick's area"},
+            {"mean_thickness_m", "oil volume in the active particles over the slick's area"},
+            {"patches", "separate pieces of the slick (cells joined by an edge or a corner)"},
             {"arrival_s", "first frame with oil within the watch point's radius (null: never)"}}},
           {"leak_x_m", leak_x_},
           {"cell_m", cell_},
@@ -135,6 +140,57 @@ void write_spill_plot(const std::string& path, const std::vector<SpillFrame>& fr
         "bank oiled (m)",
         {series("left bank", &SpillFrame::left_bank_m),
          series("right bank", &SpillFrame::right_bank_m)},
+        false}});
+}
+
+void StillWaterSlickMetrics::measure(const FluidParticles& fluid, double t) {
+  frames_.emplace_back(t, measure_slick(fluid, cell_));
+}
+
+nlohmann::json StillWaterSlickMetrics::to_json() const {
+  nlohmann::json frames = nlohmann::json::array();
+  for (const auto& [t, s] : frames_)
+    frames.push_back({{"t", t},
+                      {"slick_area_m2", s.area_m2},
+                      {"equivalent_radius_m", s.equivalent_radius_m},
+                      {"mean_thickness_m", s.mean_thickness_m},
+                      {"patches", s.patches},
+                      {"oil_volume_m3", s.oil_volume_m3}});
+  return {{"definitions",
+           {{"oil", "a particle with oil volume fraction >= 0.5"},
+            {"slick_area_m2", "top-view cells one particle diameter wide that hold oil"},
+            {"equivalent_radius_m", "radius of a disc of the slick's area"},
+            {"mean_thickness_m", "oil volume over the slick's area"},
+            {"patches", "separate pieces of the slick (cells joined by an edge or a corner)"},
+            {"oil_volume_m3", "oil volume in the active particles"}}},
+          {"cell_m", cell_},
+          {"frames", frames}};
+}
+
+void write_slick_plot(const std::string& path,
+                      const std::vector<std::pair<double, SlickShape>>& frames,
+                      const std::string& title) {
+  auto series = [&](const char* name, double (*value)(const SlickShape&)) {
+    common::PlotSeries s{name, {}, {}};
+    for (const auto& [t, shape] : frames) {
+      s.x.push_back(t);
+      s.y.push_back(value(shape));
+    }
+    return s;
+  };
+  common::write_panels(
+      path, title,
+      {{"t (s)",
+        "slick area (m^2)",
+        {series("area", [](const SlickShape& s) { return s.area_m2; })},
+        false},
+       {"t (s)",
+        "mean thickness (m)",
+        {series("thickness", [](const SlickShape& s) { return s.mean_thickness_m; })},
+        false},
+       {"t (s)",
+        "patches",
+        {series("patches", [](const SlickShape& s) { return double(s.patches); })},
         false}});
 }
 

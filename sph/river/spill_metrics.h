@@ -13,6 +13,7 @@
 
 #include "sph/core/particle_set.h"
 #include "sph/river/river_configs.h"
+#include "sph/river/slick_shape.h"
 #include "sph/river/terrain.h"
 
 namespace sph {
@@ -25,6 +26,7 @@ struct SpillFrame {
   double right_bank_m = 0;      // same for the right bank
   double oil_released_m3 = 0;   // by the leaks so far
   double oil_in_reach_m3 = 0;   // oil volume of the active particles
+  SlickShape slick;             // area, equivalent radius, mean thickness, patches
 };
 
 class SpillMetrics {
@@ -50,6 +52,25 @@ class SpillMetrics {
   std::set<long> left_bins_, right_bins_;  // bank bins oil has touched so far
   std::vector<SpillFrame> frames_;
 };
+
+// The slick of oil released on still water (a tank, no river): its shape frame by frame, for
+// spill.json and its plot.
+class StillWaterSlickMetrics {
+ public:
+  explicit StillWaterSlickMetrics(Real cell) : cell_(cell) {}
+  void measure(const FluidParticles& fluid, double t);
+  const std::vector<std::pair<double, SlickShape>>& frames() const { return frames_; }
+  nlohmann::json to_json() const;
+
+ private:
+  Real cell_;
+  std::vector<std::pair<double, SlickShape>> frames_;
+};
+
+// Draws the still-water slick's area, radius, thickness and patches against time.
+void write_slick_plot(const std::string& path,
+                      const std::vector<std::pair<double, SlickShape>>& frames,
+                      const std::string& title);
 
 // Draws slick area, front distance and bank contact against time as an SVG picture.
 void write_spill_plot(const std::string& path, const std::vector<SpillFrame>& frames,

@@ -93,14 +93,16 @@ TEST(Forces, GravityAddsG) {
 // the formula in surface_tension_force.h with the kernel's own value.
 template <class Kernel>
 std::vector<Vec3d> direct_surface_tension(const FluidParticles& f, const Kernel& w, double h,
-                                          const SurfaceTensionConfig& c, double rho_ref) {
+                                          const PairStrengths& c, double rho_ref) {
   std::vector<Vec3d> a(f.size(), Vec3d::Zero());
   for (Index i = 0; i < f.size(); ++i)
     for (Index j = 0; j < f.size(); ++j) {
       const Vec3d xij = (f.position[i] - f.position[j]).cast<double>();
       const double r = xij.norm();
       if (i == j || r >= h) continue;
-      const double s = f.type[i] == f.type[j] ? c.like : c.unlike;
+      const double s = f.type[i] != f.type[j]            ? c.oil_water
+                       : f.type[i] == ParticleType::kOil ? c.oil
+                                                         : c.water;
       const double law = std::cos(1.5 * M_PI * r / h) * double(w.value(Real(r))) / r;
       a[i] += (rho_ref / f.rest_density[i]) * s * f.rest_volume[j] * law * xij;
     }
@@ -129,7 +131,9 @@ void expect_surface_tension_matches_the_cosine_law(KernelKind kernel) {
   SurfaceTensionForce force(config, 2 * r, h, 1000);
   force.add_acceleration(fluid, boundary, nb, Real(0.001));
   const std::vector<Vec3d> expected = with_kernel(kernel, h, [&](const auto& w) {
-    return direct_surface_tension(fluid, w, double(h), config, 1000);
+    return direct_surface_tension(
+        fluid, w, double(h),
+        pair_strengths(config, tension_per_strength(kernel, h, 2 * r, volume, 1000)), 1000);
   });
   double largest = 0, worst = 0;
   Vec3d momentum = Vec3d::Zero();
@@ -146,6 +150,36 @@ void expect_surface_tension_matches_the_cosine_law(KernelKind kernel) {
   EXPECT_LT(worst, 1e-3 * largest) << "largest |a| " << largest << " m/s^2";
   // F_ij = -F_ji also from the table: the total force vanishes.
   EXPECT_LT(momentum.norm(), 1e-4 * largest * double(fluid.size()) * 1000 * double(volume));
+}
+
+// The strengths come from physical tensions through lambda, the tension per unit strength of a
+// lattice: a force per volume pair summed over an area, so lambda = c rho d^2 at a fixed support
+// of two spacings, and s = sigma / lambda grows as 1 / d^2: halving the particles' size keeps
+// the tension in N/m. The default crude (S = +0.017 N/m) has s_oil_water > s_oil (it spreads);
+// an oil with oil/water tension 0.1 N/m (S < 0) has s_oil_water < s_oil.
+TEST(Forces, SurfaceTensionStrengthsFollowTheTensionsAtAnyResolution) {
+  for (KernelKind kernel : {KernelKind::kCubicSpline, KernelKind::kWendlandC2}) {
+    auto lambda = [&](double d) {
+      const Real h = Real(2 * d), volume = lattice_rest_volume(kernel, h, Real(d));
+      return double(tension_per_strength(kernel, h, Real(d), volume, 1000));
+    };
+    const double coarse = lambda(0.04), fine = lambda(0.02);
+    std::cout << "lambda at d = 0.04 m: " << coarse << " N/m per m/s^2\n";
+    EXPECT_GT(coarse, 0);
+    EXPECT_NEAR(coarse / fine, 4.0, 4e-3);
+    // The same tension at both sizes: s grows 4x when the particles halve.
+    SurfaceTensionConfig crude;
+    EXPECT_NEAR(pair_strengths(crude, Real(fine)).water / pair_strengths(crude, Real(coarse)).water,
+                4.0, 4e-3);
+    const PairStrengths s = pair_strengths(crude, Real(coarse));
+    EXPECT_GT(s.oil_water, s.oil);
+    // Back to the tensions: sigma_ow = lambda (s_w + s_o - 2 s_ow).
+    EXPECT_NEAR(coarse * (s.water + s.oil - 2 * s.oil_water), crude.oil_water, 1e-6);
+    SurfaceTensionConfig lens = crude;
+    lens.oil_water = Real(0.1);
+    const PairStrengths l = pair_strengths(lens, Real(coarse));
+    EXPECT_LT(l.oil_water, l.oil);
+  }
 }
 
 TEST(Forces, SurfaceTensionMatchesTheCosineLawWithTheCubicSpline) {

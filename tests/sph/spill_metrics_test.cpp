@@ -5,6 +5,8 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include "sph/river/river_generator.h"
 
 namespace sph {
@@ -52,6 +54,38 @@ TEST(SpillMetrics, MeasuresHandPlacedOil) {
   EXPECT_EQ(j.at("first_left_bank_contact_s"), 2.0);
   EXPECT_TRUE(j.at("first_right_bank_contact_s").is_null());
   EXPECT_EQ(j.at("frames").size(), 3u);
+}
+
+}  // namespace
+}  // namespace sph
+
+namespace sph {
+namespace {
+
+// Two hand-placed slicks: a 3 x 3 block of oil particles one diameter apart (9 cells), a lone
+// particle three cells away (a second patch; one cell away diagonally would join the first), a
+// particle stacked on the block (no new cell, more volume) and water (ignored).
+TEST(SlickShape, AreaRadiusThicknessAndPatchesOfHandPlacedOil) {
+  const Real d = Real(0.1), volume = Real(0.001);
+  const PhaseMix oil = mix_phases(1, 1000, Real(0.001), 940, Real(0.004));
+  const PhaseMix water = mix_phases(0, 1000, Real(0.001), 940, Real(0.004));
+  FluidParticles f;
+  for (int x = 0; x < 3; ++x)
+    for (int y = 0; y < 3; ++y)
+      f.add(Vec3(0.05f + d * x, 0.05f + d * y, 0), Vec3::Zero(), volume, oil);
+  f.add(Vec3(0.05f, 0.05f, 0.1f), Vec3::Zero(), volume, oil);
+  f.add(Vec3(0.65f, 0.05f, 0), Vec3::Zero(), volume, oil);
+  f.add(Vec3(1.05f, 1.05f, 0), Vec3::Zero(), volume, water);
+  const SlickShape s = measure_slick(f, d);
+  EXPECT_NEAR(s.area_m2, 10 * 0.01, 1e-7);  // float cells
+  EXPECT_NEAR(s.equivalent_radius_m, std::sqrt(0.1 / M_PI), 1e-6);
+  EXPECT_NEAR(s.oil_volume_m3, 11 * 0.001, 1e-7);
+  EXPECT_NEAR(s.mean_thickness_m, 0.011 / 0.1, 1e-6);
+  EXPECT_EQ(s.patches, 2);
+  f.add(Vec3(0.35f, 0.35f, 0), Vec3::Zero(), volume, oil);  // touches the block at a corner
+  f.add(Vec3(0.45f, 0.25f, 0), Vec3::Zero(), volume, oil);
+  f.add(Vec3(0.55f, 0.15f, 0), Vec3::Zero(), volume, oil);  // and on to the lone particle
+  EXPECT_EQ(measure_slick(f, d).patches, 1);
 }
 
 }  // namespace

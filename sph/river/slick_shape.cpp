@@ -1,0 +1,49 @@
+#include "sph/river/slick_shape.h"
+
+#include <cmath>
+#include <set>
+#include <utility>
+#include <vector>
+
+namespace sph {
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+}  // namespace
+
+SlickShape measure_slick(const FluidParticles& f, Real cell) {
+  SlickShape s;
+  std::set<std::pair<long, long>> cells;
+  for (Index i = 0; i < f.active_count(); ++i) {
+    s.oil_volume_m3 += double(f.oil_fraction[i]) * double(f.rest_volume[i]);
+    if (f.oil_fraction[i] < Real(0.5)) continue;
+    const Vec3& p = f.position[i];
+    cells.insert({long(std::floor(p.x() / cell)), long(std::floor(p.y() / cell))});
+  }
+  s.area_m2 = double(cells.size()) * double(cell) * double(cell);
+  s.equivalent_radius_m = std::sqrt(s.area_m2 / kPi);
+  s.mean_thickness_m = s.area_m2 > 0 ? s.oil_volume_m3 / s.area_m2 : 0;
+  // Patches: flood fill over the eight neighbours of each cell.
+  std::set<std::pair<long, long>> unseen = cells;
+  while (!unseen.empty()) {
+    ++s.patches;
+    std::vector<std::pair<long, long>> stack = {*unseen.begin()};
+    unseen.erase(unseen.begin());
+    while (!stack.empty()) {
+      const auto [x, y] = stack.back();
+      stack.pop_back();
+      for (long dx = -1; dx <= 1; ++dx)
+        for (long dy = -1; dy <= 1; ++dy) {
+          const auto it = unseen.find({x + dx, y + dy});
+          if (it == unseen.end()) continue;
+          stack.push_back(*it);
+          unseen.erase(it);
+        }
+    }
+  }
+  return s;
+}
+
+}  // namespace sph
