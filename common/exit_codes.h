@@ -7,6 +7,7 @@
 //   130 interrupted (Ctrl-C, SIGTERM); nothing half-written is left
 // Libraries throw; only main() catches and calls report_error.
 
+#include <new>
 #include <ostream>
 #include <stdexcept>
 #include <string>
@@ -35,7 +36,13 @@ inline int exit_code(const std::exception& e) {
 // Prints "PROGRAM: error: WHAT" (or "PROGRAM: WHAT" for an interruption) and returns the code.
 inline int report_error(std::ostream& out, const std::string& program, const std::exception& e) {
   const int code = exit_code(e);
-  out << "\n" << program << (code == 130 ? ": " : ": error: ") << e.what() << "\n";
+  // The scene size check estimates memory from below; what still does not fit ends here.
+  const std::string what = dynamic_cast<const std::bad_alloc*>(&e)
+                               ? std::string("out of memory: the work needs more than this "
+                                             "process may use (std::bad_alloc); use fewer or "
+                                             "larger particles, or a machine with more memory")
+                               : std::string(e.what());
+  out << "\n" << program << (code == 130 ? ": " : ": error: ") << what << "\n";
   return code;
 }
 

@@ -222,6 +222,10 @@ TEST(Scene, ValuesThatCannotRunAreRefusedNamingTheKey) {
   j = minimal_scene();
   j["emitters"] = {{{"centre", {0.5, 0.5, 0.8}}, {"rate", 1e7}, {"stop", 1.0}, {"speed", 1e12}}};
   expect_error(j, "/emitters/0/rate", "particles");
+  // A direction too short to normalise in float gave NaN outlet positions (found by the fuzzer).
+  j["emitters"][0]["rate"] = 0.001;
+  j["emitters"][0]["direction"] = {0, 0, -1e-30};
+  expect_error(j, "/emitters/0/direction", "length between");
   // A fluid block thinner than a particle diameter held no particle, silently (the whole scene
   // ran with no fluid, exit 0), and a radius of 1e308 made the support radius infinite.
   j = minimal_scene();
