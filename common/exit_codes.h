@@ -38,9 +38,10 @@ inline int report_error(std::ostream& out, const std::string& program, const std
   const int code = exit_code(e);
   // The scene size check estimates memory from below; what still does not fit ends here.
   const std::string what = dynamic_cast<const std::bad_alloc*>(&e)
-                               ? std::string("out of memory: the work needs more than this "
-                                             "process may use (std::bad_alloc); use fewer or "
-                                             "larger particles, or a machine with more memory")
+                               ? std::string(
+                                     "out of memory: the work needs more than this "
+                                     "process may use (std::bad_alloc); use fewer or "
+                                     "larger particles, or a machine with more memory")
                                : std::string(e.what());
   out << "\n" << program << (code == 130 ? ": " : ": error: ") << what << "\n";
   return code;

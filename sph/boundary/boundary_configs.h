@@ -112,9 +112,9 @@ struct EmitterConfig {
     // A direction too short or too long to normalise in float (1e-30, 1e38) gave NaN positions.
     const double length = direction.cast<double>().norm();
     if (!(length > 1e-6 && length < 1e6))
-      throw ConfigError(file, pointer + "/direction",
-                        "expected a direction of length between 1e-6 and 1e6, got " +
-                            std::to_string(length));
+      throw ConfigError(
+          file, pointer + "/direction",
+          "expected a direction of length between 1e-6 and 1e6, got " + std::to_string(length));
   }
 };
 
