@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "sph/core/config.h"
+#include "sph/river/river_generator.h"
 
 namespace sph {
 
@@ -58,15 +59,9 @@ double physical_memory_bytes() {
 
 void check_river_grid_size(const RiverGeneratorConfig& r, const std::string& file,
                            const std::string& pointer, double memory_bytes) {
-  // The extents the generator spans (river_generator.cpp), each named by its setting.
-  const double widest = double(r.width) * std::max({1.0, double(r.widening), double(r.narrowing)});
-  const std::vector<std::pair<std::string, double>> across = {
-      {"bend_amplitude", std::abs(double(r.bend_amplitude))},
-      {"width", 0.5 * widest},
-      {"bank_height", double(r.bank_slope) * double(r.bank_height)},
-      {"floodplain", double(r.floodplain)}};
+  const auto across = river_half_span_terms(r);
   double half_span = 0;
-  for (const auto& a : across) half_span += a.second;
+  for (const auto& a : across) half_span += double(a.second);
   auto fits = [&](double cell, double& nx, double& ny, double& need) {
     nx = std::ceil(double(r.length) / cell) + 1;
     ny = 2 * std::ceil(half_span / cell) + 1;

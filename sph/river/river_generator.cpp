@@ -43,12 +43,20 @@ Real river_surface_width(const RiverGeneratorConfig& c, Real x) {
   return c.width * factor;
 }
 
+std::vector<std::pair<std::string, Real>> river_half_span_terms(const RiverGeneratorConfig& c) {
+  const Real widest = c.width * std::max({Real(1), c.widening, c.narrowing});
+  return {{"bend_amplitude", std::abs(c.bend_amplitude)},
+          {"width", Real(0.5) * widest},
+          {"bank_height", c.bank_slope * c.bank_height},
+          {"floodplain", c.floodplain}};
+}
+
 Terrain generate_river(const RiverGeneratorConfig& c) {
   Terrain t;
   t.cell_size = c.cell_size;
-  const Real widest = c.width * std::max({Real(1), c.widening, c.narrowing});
-  const Real half_span =
-      std::abs(c.bend_amplitude) + Real(0.5) * widest + c.bank_slope * c.bank_height + c.floodplain;
+  // Summed in Real in this order, as always: the grid's size must not move by a rounding.
+  Real half_span = 0;
+  for (const auto& term : river_half_span_terms(c)) half_span += term.second;
   t.nx = int(std::ceil(c.length / c.cell_size)) + 1;
   t.ny = 2 * int(std::ceil(half_span / c.cell_size)) + 1;
   t.origin_x = 0;
