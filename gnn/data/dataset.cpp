@@ -51,6 +51,14 @@ torch::Tensor read_dataset(hid_t group, const std::string& name, const std::stri
   std::vector<hsize_t> dims(rank);
   H5Sget_simple_extent_dims(space.id, dims.data(), nullptr);
   std::vector<int64_t> sizes(dims.begin(), dims.end());
+  // A damaged header can claim any shape: more values than the file stores (1000 x over, to
+  // allow compression by other writers) is refused before anything is allocated.
+  double values = 1;
+  for (hsize_t d : dims) values *= double(d);
+  const double stored = double(H5Dget_storage_size(dataset.id));
+  if (values * double(H5Tget_size(type.id)) > 1000 * stored + 1e6)
+    fail(at, "claims shape " + shape_text(dims) + ", more values than the file stores (" +
+                 std::to_string(stored) + " bytes): a damaged file?");
   torch::Tensor out = torch::empty(sizes, torch::dtype(dtype));
   hid_t memory_type = H5T_NATIVE_FLOAT;
   if (dtype == torch::kFloat64) memory_type = H5T_NATIVE_DOUBLE;
@@ -273,6 +281,16 @@ std::vector<Trajectory> read_split(const std::string& dir, const std::string& sp
     }
     if (!torch::isfinite(t.boundary).all().item<bool>())
       fail(where + "/boundary_position", "holds NaN or infinite values");
+    for (int k = 0; k < 3 && t.boundary.size(0) > 0; ++k) {
+      const auto axis = t.boundary.select(1, k);
+      const double margin = metadata.connectivity_radius;
+      if (axis.min().item<double>() < metadata.bounds[k][0] - margin ||
+          axis.max().item<double>() > metadata.bounds[k][1] + margin)
+        fail(where + "/boundary_position", "reaches " + std::to_string(axis.min().item<double>()) +
+                                               " .. " + std::to_string(axis.max().item<double>()) +
+                                               " along axis " + std::to_string(k) +
+                                               ", beyond the dataset's bounds");
+    }
     const int64_t entry = g < metadata_index.size() ? metadata_index[g] : -1;
     t.material =
         material_table(entry >= 0 ? trajectory_materials(metadata.raw, entry)

@@ -33,6 +33,8 @@ std::string read_text(torch::serialize::InputArchive& archive, const std::string
   torch::Tensor t;
   if (!archive.try_read(key, t))
     throw CheckpointError(path + ": not a checkpoint of ours (no \"" + key + "\" entry)");
+  if (t.scalar_type() != torch::kByte || t.dim() != 1)
+    throw CheckpointError(path + ": entry \"" + key + "\" is damaged (expected text)");
   return tensor_text(t);
 }
 
@@ -108,8 +110,10 @@ void save_checkpoint(const std::string& path, LearnedSimulator& simulator,
   common::write_file_atomically(path, bytes.str());
 }
 
-LoadedCheckpoint load_checkpoint(const std::string& path,
-                                 const std::optional<std::string>& expected_model) {
+namespace {
+
+LoadedCheckpoint load_unchecked(const std::string& path,
+                                const std::optional<std::string>& expected_model) {
   if (!std::filesystem::exists(path)) throw CheckpointError(path + ": no such checkpoint file");
   torch::serialize::InputArchive archive;
   try {
@@ -186,6 +190,20 @@ LoadedCheckpoint load_checkpoint(const std::string& path,
   if (archive.try_read("noise_generator_state", generator))
     out.state.noise_generator_state = generator;
   return out;
+}
+
+}  // namespace
+
+LoadedCheckpoint load_checkpoint(const std::string& path,
+                                 const std::optional<std::string>& expected_model) {
+  try {
+    return load_unchecked(path, expected_model);
+  } catch (const c10::Error& e) {
+    // An entry of another type or shape (a damaged or edited file) fails inside LibTorch with a
+    // message that names no file (the data fuzzer found "expected scalar type Byte but found
+    // Double").
+    throw CheckpointError(path + ": damaged: " + e.what_without_backtrace());
+  }
 }
 
 void load_optimizer_state(const std::string& path, torch::optim::Optimizer& optimizer) {
