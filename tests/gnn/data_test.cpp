@@ -120,6 +120,58 @@ TEST(Dataset, DamagedOptionalMetadataIsAnErrorNamingTheKey) {
   fs::remove_all(dir);
 }
 
+// Replaces dataset `name` of group 00000 in `file` by one of `dims` floats holding `value`;
+// with `unwritten` its chunks are never written (a header that claims more than the file stores).
+void replace_dataset(const fs::path& file, const char* name, std::vector<hsize_t> dims, float value,
+                     bool unwritten) {
+  const hid_t f = H5Fopen(file.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
+  const hid_t g = H5Gopen2(f, "00000", H5P_DEFAULT);
+  H5Ldelete(g, name, H5P_DEFAULT);
+  const hid_t space = H5Screate_simple(int(dims.size()), dims.data(), nullptr);
+  const hid_t props = H5Pcreate(H5P_DATASET_CREATE);
+  std::vector<hsize_t> chunk(dims.size(), 1);
+  H5Pset_chunk(props, int(dims.size()), chunk.data());
+  const hid_t d = H5Dcreate2(g, name, H5T_NATIVE_FLOAT, space, H5P_DEFAULT, props, H5P_DEFAULT);
+  if (!unwritten) {
+    hsize_t n = 1;
+    for (hsize_t k : dims) n *= k;
+    std::vector<float> values(n, value);
+    H5Dwrite(d, H5T_NATIVE_FLOAT, H5S_ALL, H5S_ALL, H5P_DEFAULT, values.data());
+  }
+  H5Dclose(d);
+  H5Pclose(props);
+  H5Sclose(space);
+  H5Gclose(g);
+  H5Fclose(f);
+}
+
+// What the data fuzzer reached through flipped bytes: boundary positions at 1e30 (the radius
+// graph's neighbour grid then had "too many cells", exit 1) and a header claiming a huge shape
+// (the allocator failed, exit 1). Both are refused at load, naming the file and the dataset.
+TEST(Dataset, AbsurdBoundaryPositionsAndClaimedShapesAreRefusedAtLoad) {
+  const fs::path dir = temp_dir("absurd");
+  tiny::write(dir);
+  const auto m = gnn::read_metadata((dir / "metadata.json").string());
+  replace_dataset(dir / "valid.h5", "boundary_position", {1, 3}, 1e30f, false);
+  try {
+    gnn::read_split(dir.string(), "valid", m);
+    ADD_FAILURE() << "accepted";
+  } catch (const gnn::DatasetError& e) {
+    EXPECT_NE(std::string(e.what()).find("valid.h5:/00000/boundary_position"), std::string::npos)
+        << e.what();
+  }
+  replace_dataset(dir / "test.h5", "time", {1000000000}, 0, true);
+  try {
+    gnn::read_split(dir.string(), "test", m);
+    ADD_FAILURE() << "accepted";
+  } catch (const gnn::DatasetError& e) {
+    EXPECT_NE(std::string(e.what()).find("test.h5:/00000/time: claims shape [1000000000]"),
+              std::string::npos)
+        << e.what();
+  }
+  fs::remove_all(dir);
+}
+
 TEST(FrameWindow, EmittedParticlesGetAHistoryAlongTheirLaunchVelocity) {
   const fs::path dir = temp_dir("window");
   tiny::write(dir);

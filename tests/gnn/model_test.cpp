@@ -123,6 +123,34 @@ TEST(Checkpoint, ACheckpointOfAnotherModelOrNoneAtAllIsAClearError) {
                gnn::CheckpointError);
 }
 
+// A text entry of another type (the data fuzzer retyped "format" and "model_config") failed inside
+// LibTorch with "expected scalar type Byte but found Double", naming no file; exit 1.
+TEST(Checkpoint, AnEntryOfAnotherTypeIsAnErrorNamingTheFile) {
+  Tiny data("retyped");
+  auto sim = data.simulator();
+  const std::string file = (data.dir / "model.pt").string();
+  gnn::save_checkpoint(file, *sim, gnn::describe_data(data.metadata), {}, nullptr);
+  for (const char* entry : {"format", "model_config"}) {
+    torch::serialize::InputArchive in;
+    in.load_from(file);
+    torch::serialize::OutputArchive copy;
+    for (const auto& key : in.keys()) {
+      torch::Tensor t;
+      ASSERT_TRUE(in.try_read(key, t)) << key;
+      copy.write(key, key == entry ? t.to(torch::kFloat64) : t);
+    }
+    const std::string bad = (data.dir / "retyped.pt").string();
+    copy.save_to(bad);
+    try {
+      gnn::load_checkpoint(bad);
+      ADD_FAILURE() << entry << ": accepted";
+    } catch (const gnn::CheckpointError& e) {
+      EXPECT_NE(std::string(e.what()).find(bad), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find(entry), std::string::npos) << e.what();
+    }
+  }
+}
+
 // A weight changed inside a well-formed file (one set to 1e6 once loaded silently and scored 8 x
 // worse) fails the stored checksum; the untouched copy, rewritten the same way, loads.
 TEST(Checkpoint, AWeightAlteredInsideTheFileIsRefused) {
