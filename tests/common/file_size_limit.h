@@ -3,6 +3,7 @@
 // SIGXFSZ is ignored, so a write past the limit fails with EFBIG as one fails with ENOSPC when the
 // disk is full. Needs no root and no small file system.
 
+#include <gtest/gtest.h>
 #include <sys/wait.h>
 
 #include <cstdlib>
@@ -34,6 +35,16 @@ inline LimitedRun run_with_file_size_limit(const std::string& command, int limit
   if (at != std::string::npos) out.exit_code = std::atoi(out.output.c_str() + at + 5);
   std::filesystem::remove(output_file);
   return out;
+}
+
+// What every command must do when a write fails: exit 1 (no signal), naming a file under
+// `folder`, saying that it could not write.
+inline void expect_failed_write(const LimitedRun& r, const std::filesystem::path& folder) {
+  EXPECT_EQ(r.exit_code, 1) << r.output;
+  EXPECT_NE(r.output.find(folder.string()), std::string::npos) << r.output;
+  EXPECT_TRUE(r.output.find("cannot write") != std::string::npos ||
+              r.output.find("failed") != std::string::npos)
+      << r.output;
 }
 
 }  // namespace testing_support

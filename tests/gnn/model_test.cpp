@@ -4,6 +4,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <sstream>
 
 #include "common/config_error.h"
@@ -123,6 +124,21 @@ TEST(Checkpoint, ACheckpointOfAnotherModelOrNoneAtAllIsAClearError) {
                gnn::CheckpointError);
 }
 
+// Copies every entry of checkpoint `from` to `to`, each through `change(key, tensor)`.
+void copy_checkpoint(
+    const std::string& from, const std::string& to,
+    const std::function<torch::Tensor(const std::string&, torch::Tensor)>& change) {
+  torch::serialize::InputArchive in;
+  in.load_from(from);
+  torch::serialize::OutputArchive copy;
+  for (const auto& key : in.keys()) {
+    torch::Tensor t;
+    ASSERT_TRUE(in.try_read(key, t)) << key;
+    copy.write(key, change(key, t));
+  }
+  copy.save_to(to);
+}
+
 // A text entry of another type (the data fuzzer retyped "format" and "model_config") failed inside
 // LibTorch with "expected scalar type Byte but found Double", naming no file; exit 1.
 TEST(Checkpoint, AnEntryOfAnotherTypeIsAnErrorNamingTheFile) {
@@ -131,16 +147,10 @@ TEST(Checkpoint, AnEntryOfAnotherTypeIsAnErrorNamingTheFile) {
   const std::string file = (data.dir / "model.pt").string();
   gnn::save_checkpoint(file, *sim, gnn::describe_data(data.metadata), {}, nullptr);
   for (const char* entry : {"format", "model_config"}) {
-    torch::serialize::InputArchive in;
-    in.load_from(file);
-    torch::serialize::OutputArchive copy;
-    for (const auto& key : in.keys()) {
-      torch::Tensor t;
-      ASSERT_TRUE(in.try_read(key, t)) << key;
-      copy.write(key, key == entry ? t.to(torch::kFloat64) : t);
-    }
     const std::string bad = (data.dir / "retyped.pt").string();
-    copy.save_to(bad);
+    copy_checkpoint(file, bad, [&](const std::string& key, torch::Tensor t) {
+      return key == entry ? t.to(torch::kFloat64) : t;
+    });
     try {
       gnn::load_checkpoint(bad);
       ADD_FAILURE() << entry << ": accepted";
@@ -160,19 +170,12 @@ TEST(Checkpoint, AWeightAlteredInsideTheFileIsRefused) {
   gnn::save_checkpoint(file, *sim, gnn::describe_data(data.metadata), {}, nullptr);
   // Copies every entry of the archive, setting the first weight of `altered` (if any) to 1e6.
   auto rewrite = [&](const std::string& out, const std::string& altered) {
-    torch::serialize::InputArchive in;
-    in.load_from(file);
-    torch::serialize::OutputArchive copy;
-    for (const auto& key : in.keys()) {
-      torch::Tensor t;
-      ASSERT_TRUE(in.try_read(key, t)) << key;
-      if (key == altered) {
-        t = t.clone();
-        t.view(-1)[0] = 1e6;
-      }
-      copy.write(key, t);
-    }
-    copy.save_to(out);
+    copy_checkpoint(file, out, [&](const std::string& key, torch::Tensor t) {
+      if (key != altered) return t;
+      t = t.clone();
+      t.view(-1)[0] = 1e6;
+      return t;
+    });
   };
   const std::string first_weight = "param:" + [&] {
     std::string name = sim->model().named_parameters().begin()->key();
