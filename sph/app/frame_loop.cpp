@@ -25,7 +25,7 @@ std::string frame_detail(const Simulation& sim, const FrameStats& f) {
 FrameLoopTotals run_frames(Simulation& sim, const FrameLoop& loop,
                            const std::function<void(int, const FrameStats&, double)>& on_frame) {
   const auto t0 = std::chrono::steady_clock::now();
-  double it_density = 0, it_divergence = 0;
+  double it_density = 0, it_divergence = 0, density_error = 0;
   long steps = 0;
   for (int frame = loop.first + 1; frame <= loop.last; ++frame) {
     if (loop.stop && loop.stop->load())
@@ -36,6 +36,7 @@ FrameLoopTotals run_frames(Simulation& sim, const FrameLoop& loop,
     const double simulated_s = common::seconds_since(frame_start);
     it_density += f.iterations_density * f.steps;
     it_divergence += f.iterations_divergence * f.steps;
+    density_error += f.density_error_avg * f.steps;
     steps += f.steps;
     on_frame(frame, f, simulated_s);
     if (loop.progress) loop.progress->update(frame, frame_detail(sim, f));
@@ -44,6 +45,7 @@ FrameLoopTotals run_frames(Simulation& sim, const FrameLoop& loop,
   totals.wall_s = common::seconds_since(t0);
   totals.iterations_density = it_density / double(std::max(1L, steps));
   totals.iterations_divergence = it_divergence / double(std::max(1L, steps));
+  totals.density_error_avg = density_error / double(std::max(1L, steps));
   return totals;
 }
 

@@ -39,6 +39,7 @@ struct FrameLoopTotals {
   double wall_s = 0;                 // the whole loop, callbacks included
   double iterations_density = 0;     // mean per solver step
   double iterations_divergence = 0;  // mean per solver step
+  double density_error_avg = 0;      // mean per solver step of its mean density error
 };
 
 // Advances `sim` from loop.first to loop.last; after each frame calls

@@ -307,6 +307,7 @@ nlohmann::json benchmark_scene(const LoadedScene& scene, int threads, std::ostre
                                   totals.iterations_divergence, threads);
   j["scene"] = scene.config.name;
   j["solver"] = scene.config.solver;
+  j["density_error_avg_percent"] = totals.density_error_avg * 100;
   j["particle_radius"] = shortest_decimal(scene.config.particle_radius);
   if (scene.config.flow) {
     // The MTDF-SPH paper's river runs: about 100,000 particles for 3,100 frames, projected at

@@ -156,6 +156,12 @@ void Simulation::update_neighbourhood() {
   time_split_.neighbour_search += common::seconds_since(t0);
 }
 
+void Simulation::update_pair_kernels() {
+  const auto t0 = std::chrono::steady_clock::now();
+  neighbourhood_->update_pair_kernels(fluid_, boundary_);
+  time_split_.neighbour_search += common::seconds_since(t0);
+}
+
 Real Simulation::choose_time_step(Real solver_limit) {
   const long n = long(fluid_.active_count());
   Real v2_max = 0;

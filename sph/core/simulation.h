@@ -75,6 +75,7 @@ class Simulation : private SolverHost {
   FluidParticles& mutable_fluid() override { return fluid_; }
   const ParticleNeighbourhood& neighbourhood() const override { return *neighbourhood_; }
   void update_neighbourhood() override;
+  void update_pair_kernels() override;
   Real choose_time_step(Real solver_limit) override;
   void compute_non_pressure_accelerations(Real dt) override;
   TimeSplit& time_split() override { return time_split_; }

@@ -47,6 +47,9 @@ class SolverHost {
   virtual const ParticleNeighbourhood& neighbourhood() const = 0;
   // Neighbour search, pair kernels and densities for the current positions.
   virtual void update_neighbourhood() = 0;
+  // Pair kernels and densities for the current positions on the last search's pairs
+  // (ParticleNeighbourhood::update_pair_kernels).
+  virtual void update_pair_kernels() = 0;
   // Chooses dt (CFL, clamped to the scene's range and `solver_limit`, ending on the next frame).
   virtual Real choose_time_step(Real solver_limit) = 0;
   // Overwrites fluid().acceleration with the non-pressure accelerations (gravity, viscosity, ...).

@@ -18,6 +18,12 @@ void ParticleNeighbourhood::update(FluidParticles& fluid, const BoundaryParticle
   fluid_grid_.build(fluid.position.data(), n);
   fluid_grid_.find(fluid.position.data(), n, /*same_set=*/true, this->fluid.lists);
   boundary_grid_.find(fluid.position.data(), n, /*same_set=*/false, this->boundary.lists);
+  update_pair_kernels(fluid, boundary);
+}
+
+void ParticleNeighbourhood::update_pair_kernels(FluidParticles& fluid,
+                                                const BoundaryParticles& boundary) {
+  const Index n = fluid.active_count();
   this->fluid.value.resize(this->fluid.lists.pairs());
   this->fluid.gradient.resize(this->fluid.lists.pairs());
   this->boundary.value.resize(this->boundary.lists.pairs());

@@ -35,6 +35,11 @@ class ParticleNeighbourhood {
   // Throws PointOutsideDomain with the index of the first particle outside the domain.
   void update(FluidParticles& fluid, const BoundaryParticles& boundary);
 
+  // Kernel values, gradients, boundary sums and densities for the current positions, on the pairs
+  // of the last update() (the same active particles, moved by a fraction of the support radius):
+  // position-based solvers (PBF) correct positions several times per neighbour search.
+  void update_pair_kernels(FluidParticles& fluid, const BoundaryParticles& boundary);
+
   // [n] sum_b V_b grad_i W_ib per fluid particle: the resting boundary enters the pressure solves
   // only through this sum, so their iterations never loop over boundary pairs.
   std::vector<Vec3> boundary_gradient_sum;

@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "common/stopwatch.h"
+#include "sph/solvers/pressure_terms.h"
 
 namespace sph {
 
@@ -14,16 +15,8 @@ namespace {
 // compression: the divergence solve leaves it alone (as the reference implementation does).
 constexpr Index kMinNeighboursForDivergence = 20;
 
-// Rate of change of rho/rho0 from the current velocities:
-//   sum_j V_j (v_i - v_j) . grad W_ij + v_i . sum_b V_b grad W_ib   (the boundary rests).
 inline Real density_rate(Index i, const FluidParticles& fluid, const ParticleNeighbourhood& nb) {
-  const Vec3* v = fluid.velocity.data();
-  const Vec3 vi = v[i];
-  Real rate = vi.dot(nb.boundary_gradient_sum[i]);
-  const auto& ff = nb.fluid;
-  for (Index k = ff.lists.offsets[i]; k < ff.lists.offsets[i + 1]; ++k)
-    rate += (vi - v[ff.lists.indices[k]]).dot(ff.gradient[k]);
-  return rate;
+  return pressure_terms::density_rate(i, fluid.velocity.data(), nb);
 }
 
 }  // namespace
@@ -48,39 +41,11 @@ void DfsphSolver::permute(const std::vector<Index>& order) {
   permute_array(stiffness_divergence_, order, scratch);
 }
 
-void DfsphSolver::compute_factors(const FluidParticles& fluid, const ParticleNeighbourhood& nb) {
-  const long n = long(fluid.active_count());
-  const Real h = nb.support_radius();
-  const Real tiny = Real(1e-6) / (h * h);
-#pragma omp parallel for schedule(dynamic, 64)
-  for (long li = 0; li < n; ++li) {
-    const Index i = Index(li);
-    Vec3 grad_sum = nb.boundary_gradient_sum[i];
-    Real sum_sq = 0;
-    nb.fluid.for_each(i, [&](Index j, Index k) {
-      const Vec3& g = nb.fluid.gradient[k];
-      grad_sum += g;
-      sum_sq += density_ratio_[j] * g.squaredNorm();
-    });
-    const Real denominator = density_ratio_[i] * grad_sum.squaredNorm() + sum_sq;
-    alpha_[i] = denominator > tiny ? Real(1) / denominator : Real(0);
-  }
-}
-
 void DfsphSolver::apply_stiffness(FluidParticles& fluid, const ParticleNeighbourhood& nb,
                                   const std::vector<Real>& s, Real dt) const {
-  const long n = long(fluid.active_count());
-  const Real inv_dt = Real(1) / dt;
-#pragma omp parallel for schedule(dynamic, 64)
-  for (long li = 0; li < n; ++li) {
-    const Index i = Index(li);
-    const Real si = s[i];
-    Vec3 dv = si * nb.boundary_gradient_sum[i];
-    const auto& ff = nb.fluid;
-    for (Index k = ff.lists.offsets[i]; k < ff.lists.offsets[i + 1]; ++k)
-      dv += (si + s[ff.lists.indices[k]]) * ff.gradient[k];
-    fluid.velocity[i] -= (inv_dt * density_ratio_[i]) * dv;
-  }
+  pressure_terms::stiffness_velocity_change(
+      nb, s, density_ratio_, dt, fluid.active_count(),
+      [&](Index i, const Vec3& dv) { fluid.velocity[i] += dv; });
 }
 
 template <class PredictedError>
@@ -170,9 +135,8 @@ void DfsphSolver::step(SolverHost& host, StepStats& stats) {
   after_neighbour_search(host);
 
   auto t0 = std::chrono::steady_clock::now();
-  for (long i = 0; i < n; ++i)
-    density_ratio_[size_t(i)] = reference_density_ / fluid.rest_density[size_t(i)];
-  compute_factors(fluid, nb);
+  pressure_terms::density_ratios(fluid, reference_density_, density_ratio_);
+  pressure_terms::compute_factors(nb, density_ratio_, fluid.active_count(), alpha_);
   stats.iterations_divergence =
       config_.divergence_solver ? solve_divergence(fluid, nb, last_dt_) : 0;
   if (!config_.divergence_solver)

@@ -108,7 +108,6 @@ class DfsphSolver : public PressureSolver {
   virtual void after_advection(SolverHost&, Real /*dt*/) {}
 
  private:
-  void compute_factors(const FluidParticles& fluid, const ParticleNeighbourhood& nb);
   int solve_divergence(FluidParticles& fluid, const ParticleNeighbourhood& nb, Real dt);
   int solve_density(FluidParticles& fluid, const ParticleNeighbourhood& nb, Real dt,
                     StepStats& stats);

@@ -3,7 +3,10 @@
 #include <stdexcept>
 
 #include "sph/solvers/dfsph_solver.h"
+#include "sph/solvers/iisph_solver.h"
 #include "sph/solvers/mtdf_solver.h"
+#include "sph/solvers/pbf_solver.h"
+#include "sph/solvers/pfsph_solver.h"
 #include "sph/solvers/pressure_solver.h"
 #include "sph/solvers/wcsph_solver.h"
 
@@ -11,9 +14,14 @@ namespace sph {
 
 std::vector<PressureSolverEntry> pressure_solver_entries() {
   return {
+      // clang-format off
       DfsphSolver::entry(),
+      IisphSolver::entry(),
       MtdfSolver::entry(),
+      PbfSolver::entry(),
+      PfsphSolver::entry(),
       WcsphSolver::entry(),
+      // clang-format on
   };
 }
 

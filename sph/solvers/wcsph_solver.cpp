@@ -33,6 +33,7 @@ void WcsphSolver::step(SolverHost& host, StepStats& stats) {
   const long n = long(fluid.active_count());
   const Real dt = host.choose_time_step(acoustic_dt_limit_);
   host.compute_non_pressure_accelerations(dt);
+  after_non_pressure_forces(host, dt);
 
   const auto t0 = std::chrono::steady_clock::now();
   const Real gamma = config_.stiffness_exponent;

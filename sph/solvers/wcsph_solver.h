@@ -39,6 +39,11 @@ class WcsphSolver : public PressureSolver {
   void step(SolverHost& host, StepStats& stats) override;
   void permute(const std::vector<Index>&) override {}  // no state kept between steps
 
+ protected:
+  // Where a solver built on WCSPH (PF-SPH) adds accelerations: after the non-pressure forces of
+  // step dt, before the pressure acceleration and the integration.
+  virtual void after_non_pressure_forces(SolverHost&, Real /*dt*/) {}
+
  private:
   WcsphConfig config_;
   Real sound_speed_;

@@ -15,78 +15,98 @@ namespace sph {
 namespace {
 
 struct HydrostaticResult {
-  double worst_relative_error = 0;  // over depth bins in the lower 80 % of the column
-  double density_error_avg = 0;     // relative, mean over the last frame's steps
-  double density_tolerance = 0;     // the scene's /dfsph/density_error_percent, relative
+  double worst_relative_error = 0;   // over depth bins in the lower 80 % of the column
+  double bottom_relative_error = 0;  // of the deepest bin (two support radii above the floor)
+  double density_error_avg = 0;      // relative, mean over the last frame's steps
+  double density_tolerance = 0;      // the scene's /dfsph/density_error_percent, relative
   double max_speed = 0;
   std::string table;
 };
 
 // Runs a resting scene (water, optionally with an oil layer on top) to its end and compares the
 // pressure with the hydrostatic profile: rho_oil g d in the oil, then rho_water g per metre below
-// the interface.
+// the interface. The pressure is the time mean over the scene's last `window` seconds, sampled
+// every 5 ms: a weakly compressible column at rest keeps ringing with its acoustic modes (period
+// 4 x depth / c, 0.07 s at c = 30 m/s), so a snapshot of its pressure lies anywhere between
+// -25 % and +35 % of rho g d depending on the moment (measured), while its time mean is the
+// hydrostatic pressure; for the incompressible solvers the mean and the snapshot agree.
 HydrostaticResult run_hydrostatic(const std::string& scene_name,
-                                  const std::vector<std::string>& overrides) {
+                                  const std::vector<std::string>& overrides, double window = 0.3) {
   const LoadedScene scene = load_scene(
       std::string(SPILL_SOURCE_DIR) + "/configs/scenes/" + scene_name + ".json", overrides);
   Simulation sim(scene.config);
   FrameStats last;
-  const int frames = int(std::lround(scene.config.end_time / scene.config.output.frame_dt));
-  for (int f = 1; f <= frames; ++f)
-    last = sim.advance_to(double(f) * double(scene.config.output.frame_dt), f);
+  const double frame_dt = double(scene.config.output.frame_dt);
+  const double end = double(scene.config.end_time);
+  const int frames = int(std::lround((end - window) / frame_dt));
+  for (int f = 1; f <= frames; ++f) last = sim.advance_to(double(f) * frame_dt, f);
 
   const FluidParticles& fluid = sim.fluid();
   const double r = double(scene.config.particle_radius);
   const double g = -double(scene.config.gravity[2]);
   const double rho_water = double(scene.config.materials.water.density);
   const double rho_oil = double(scene.config.materials.oil.density);
+  const Vec3 lo = scene.config.boxes[0].min, hi = scene.config.boxes[0].max;
   // The free surface: the top particle layer's centres plus one radius (a volume-based height
   // would be ~7 mm low: the free-surface layers are slightly less dense than rho0). The oil-water
   // interface lies the oil's volume over the floor area below it.
-  double top = -1e9;
-  for (Index i = 0; i < fluid.active_count(); ++i)
-    top = std::max(top, double(fluid.position[i][2]));
-  const double surface = top + r;
-  const Vec3 lo = scene.config.boxes[0].min, hi = scene.config.boxes[0].max;
+  auto free_surface = [&] {
+    double top = -1e9;
+    for (Index i = 0; i < fluid.active_count(); ++i)
+      top = std::max(top, double(fluid.position[i][2]));
+    return top + r;
+  };
   double oil_volume = 0;
   for (Index i = 0; i < fluid.active_count(); ++i)
     if (fluid.type[i] == ParticleType::kOil) oil_volume += double(fluid.rest_volume[i]);
-  const double interface = surface - oil_volume / (double(hi[0] - lo[0]) * double(hi[1] - lo[1]));
-  auto hydrostatic_pressure = [&](double z) {
-    if (z >= interface) return rho_oil * g * (surface - z);
-    return rho_oil * g * (surface - interface) + rho_water * g * (interface - z);
-  };
+  const double oil_depth = oil_volume / (double(hi[0] - lo[0]) * double(hi[1] - lo[1]));
+
   // Average pressure and depth in horizontal bins one diameter thick, at least two support radii
   // (the particles that see the wall and their neighbours) away from the side walls and the
   // floor: there the kernel is truncated and the single Akinci boundary layer makes the adjacent
   // fluid carry extra pressure (measured: about 15 % in the bottom two layers, 5 % in the third),
   // which is a property of the boundary model, not of the pressure field.
   const double wall = 2 * double(scene.config.support_radius());
-  const int bins = int(std::floor(surface / (2 * r)));
+  const int bins = int(std::floor(free_surface() / (2 * r)));
   std::vector<double> p_sum(size_t(bins), 0), d_sum(size_t(bins), 0);
-  std::vector<int> count(size_t(bins), 0);
+  std::vector<long> count(size_t(bins), 0);
   HydrostaticResult result;
-  for (Index i = 0; i < fluid.active_count(); ++i) {
-    const Vec3& x = fluid.position[i];
-    if (x[0] < lo[0] + wall || x[0] > hi[0] - wall || x[1] < lo[1] + wall || x[1] > hi[1] - wall ||
-        x[2] < lo[2] + wall)
-      continue;
-    const double depth = surface - double(x[2]);
-    const int b = std::min(bins - 1, int(depth / (2 * r)));
-    p_sum[size_t(b)] += double(fluid.pressure[i]);
-    d_sum[size_t(b)] += depth;
-    ++count[size_t(b)];
-    result.max_speed = std::max(result.max_speed, double(fluid.velocity[i].norm()));
+  const int samples = std::max(1, int(std::lround(window / 0.005)));
+  double surface_sum = 0;
+  for (int k = 1; k <= samples; ++k) {
+    if (window > 0) last = sim.advance_to(end - window + window * k / samples, frames + 1);
+    const double surface = free_surface();
+    surface_sum += surface;
+    for (Index i = 0; i < fluid.active_count(); ++i) {
+      const Vec3& x = fluid.position[i];
+      if (x[0] < lo[0] + wall || x[0] > hi[0] - wall || x[1] < lo[1] + wall ||
+          x[1] > hi[1] - wall || x[2] < lo[2] + wall)
+        continue;
+      const double depth = surface - double(x[2]);
+      const int b = std::clamp(int(depth / (2 * r)), 0, bins - 1);
+      p_sum[size_t(b)] += double(fluid.pressure[i]);
+      d_sum[size_t(b)] += depth;
+      ++count[size_t(b)];
+      if (k == samples)
+        result.max_speed = std::max(result.max_speed, double(fluid.velocity[i].norm()));
+    }
   }
+  const double surface = surface_sum / samples;
+  const double interface = surface - oil_depth;
+  auto hydrostatic_pressure = [&](double z) {
+    if (z >= interface) return rho_oil * g * (surface - z);
+    return rho_oil * g * (surface - interface) + rho_water * g * (interface - z);
+  };
   for (int b = 0; b < bins; ++b) {
     if (count[size_t(b)] == 0) continue;
-    const double depth = d_sum[size_t(b)] / count[size_t(b)];
+    const double depth = d_sum[size_t(b)] / double(count[size_t(b)]);
     // Near the surface p -> 0 and relative errors blow up; the floor is excluded above.
     if (depth < 0.2 * surface) continue;
     const double expected = hydrostatic_pressure(surface - depth);
-    const double measured = p_sum[size_t(b)] / count[size_t(b)];
+    const double measured = p_sum[size_t(b)] / double(count[size_t(b)]);
     const double rel = std::abs(measured - expected) / expected;
     result.worst_relative_error = std::max(result.worst_relative_error, rel);
+    result.bottom_relative_error = rel;  // bins run downwards: the last one is the bottom
     result.table += "depth " + std::to_string(depth) + " m: p = " + std::to_string(measured) +
                     " Pa, hydrostatic " + std::to_string(expected) + " Pa\n";
   }
@@ -97,7 +117,7 @@ HydrostaticResult run_hydrostatic(const std::string& scene_name,
 }
 
 TEST(Hydrostatic, DfsphPressureGrowsAsRhoGDepth) {
-  const HydrostaticResult r = run_hydrostatic("hydrostatic", {});
+  const HydrostaticResult r = run_hydrostatic("hydrostatic", {}, 0);
   std::cout << r.table << "worst relative error " << r.worst_relative_error << "\n";
   EXPECT_LT(r.worst_relative_error, 0.03) << r.table;
   // The scene's own tolerance with a factor of 1: each constant-density solve stops only once its
@@ -111,17 +131,52 @@ TEST(Hydrostatic, DfsphPressureGrowsAsRhoGDepth) {
   EXPECT_LT(r.max_speed, 0.05) << "the water should be at rest";
 }
 
-TEST(Hydrostatic, WcsphHoldsTheColumnAtRest) {
-  // Weakly compressible: the kernel-sum density of a settled, slightly disordered particle set
-  // scatters by a fraction of a percent, and Tait's stiff equation of state (gamma = 7, negative
-  // pressures clamped) turns that scatter into a noisy, upward-biased pressure field (measured:
-  // about +30 % at depth for c = 30 m/s). What WCSPH must deliver is a column at rest with density
-  // fluctuations of order (v/c)^2, i.e. well under 1 %.
-  const HydrostaticResult r =
-      run_hydrostatic("hydrostatic", {"/solver=wcsph", "/wcsph/expected_max_velocity=3"});
-  EXPECT_LT(r.density_error_avg, 0.01);
+// Every pressure solver, with the settings its hydrostatic run needs (each stated with why).
+struct SolverRun {
+  std::string solver;
+  std::vector<std::string> overrides;
+};
+
+void PrintTo(const SolverRun& run, std::ostream* out) {
+  *out << run.solver;
+}
+
+std::vector<SolverRun> hydrostatic_runs() {
+  return {
+      {"dfsph", {}},
+      // MTDF-SPH on one phase: DFSPH with the mixture model and surface tension running idle.
+      {"mtdf", {}},
+      // The scene's DFSPH tolerance (0.01 %) for IISPH too; its relaxed Jacobi iteration
+      // (omega 0.5) converges about half as fast as DFSPH's, so the cap is 500.
+      {"iisph", {"/iisph/density_error_percent=0.01", "/iisph/max_iterations=500"}},
+      {"pbf", {}},
+      // Weakly compressible: a speed of sound of 40 m/s (10 x 4 m/s); measured bottom errors
+      // 9 % at 20 m/s and 3.1 % at 30 m/s, 2.0 % at 40 m/s.
+      {"wcsph", {"/wcsph/expected_max_velocity=4"}},
+      {"pfsph", {"/wcsph/expected_max_velocity=4"}},
+  };
+}
+
+class HydrostaticBySolver : public ::testing::TestWithParam<SolverRun> {};
+
+// The bar: the pressure at the bottom within 3 % of rho g h for every solver. The profile
+// above it is noisier for the solvers that do not solve to a tolerance (measured, time means:
+// worst bin 2-9 % for WCSPH, PF-SPH and PBF, up to 4.4 % for IISPH; their largest errors sit
+// high in the column, where p is small and the surface height's jitter weighs most), so it is
+// held to 10 %; DFSPH's tighter profile is Hydrostatic.DfsphPressureGrowsAsRhoGDepth.
+TEST_P(HydrostaticBySolver, PressureAtTheBottomIsRhoGDepthAndTheWaterRests) {
+  std::vector<std::string> overrides = GetParam().overrides;
+  overrides.push_back("/solver=" + GetParam().solver);
+  const HydrostaticResult r = run_hydrostatic("hydrostatic", overrides);
+  std::cout << r.table << "bottom relative error " << r.bottom_relative_error << ", worst bin "
+            << r.worst_relative_error << ", fastest " << r.max_speed << " m/s\n";
+  EXPECT_LT(r.bottom_relative_error, 0.03) << r.table;
+  EXPECT_LT(r.worst_relative_error, 0.10) << r.table;
   EXPECT_LT(r.max_speed, 0.1) << "the water should be at rest";
 }
+
+INSTANTIATE_TEST_SUITE_P(AllSolvers, HydrostaticBySolver, ::testing::ValuesIn(hydrostatic_runs()),
+                         [](const auto& info) { return info.param.solver; });
 
 TEST(Hydrostatic, OilColumnPressureGradientIsRhoOilG) {
   // An oil-only column (oil_layer_hydrostatic with its water block turned to oil): the
@@ -158,9 +213,15 @@ TEST(Hydrostatic, OilColumnPressureGradientIsRhoOilG) {
   EXPECT_NEAR(gradient, expected, 0.02 * expected);
 }
 
-TEST(Hydrostatic, OilLayerStaysOnTopOfWaterAtRest) {
+// An oil layer on water stays on top with every solver: none lets the lighter oil sink or the water
+// rise through it. (Oil poured to the bottom of the water rises back only with MTDF-SPH: with the
+// others a particle lattice of one phase under the other jams, see TwoPhase and oil_rise.json.)
+class OilLayerBySolver : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(OilLayerBySolver, StaysOnTopOfWaterAtRest) {
   const LoadedScene scene =
-      load_scene(std::string(SPILL_SOURCE_DIR) + "/configs/scenes/oil_layer_hydrostatic.json");
+      load_scene(std::string(SPILL_SOURCE_DIR) + "/configs/scenes/oil_layer_hydrostatic.json",
+                 {"/solver=" + GetParam(), "/wcsph/expected_max_velocity=4"});
   Simulation sim(scene.config);
   const int frames = int(std::lround(scene.config.end_time / scene.config.output.frame_dt));
   for (int f = 1; f <= frames; ++f)
@@ -182,7 +243,12 @@ TEST(Hydrostatic, OilLayerStaysOnTopOfWaterAtRest) {
   // next to a lattice of the other); at the oil viscosity's time step DFSPH's residual noise is
   // larger than in the single-phase column.
   EXPECT_LT(max_speed, 0.1) << "the layers should be at rest";
+  std::cout << "fastest particle " << max_speed << " m/s\n";
 }
+
+INSTANTIATE_TEST_SUITE_P(AllSolvers, OilLayerBySolver,
+                         ::testing::Values("dfsph", "mtdf", "iisph", "pbf", "wcsph", "pfsph"),
+                         [](const auto& info) { return info.param; });
 
 // A tank at rest stays at rest whatever the time step: the constant-density solve once removed a
 // step's starting density error within that step, with a velocity of about error x h / dt, so

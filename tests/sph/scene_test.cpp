@@ -113,7 +113,7 @@ TEST(Scene, OutOfRangeIsAnError) {
   expect_error(j, "/particle_radius", "expected > 0, got 0");
   j = minimal_scene();
   j["solver"] = "sph9000";
-  expect_error(j, "/solver", "expected one of [dfsph, mtdf, wcsph]");
+  expect_error(j, "/solver", "expected one of [dfsph, iisph, mtdf, pbf, pfsph, wcsph]");
   j = minimal_scene();
   j["boxes"][0]["max"] = {1, -1, 1};
   expect_error(j, "/boxes/0/max/1", "expected max > min");

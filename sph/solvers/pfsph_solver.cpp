@@ -1,0 +1,61 @@
+#include "sph/solvers/pfsph_solver.h"
+
+#include <chrono>
+#include <cmath>
+
+#include "common/stopwatch.h"
+
+namespace sph {
+
+PressureSolverEntry PfsphSolver::entry() {
+  return {"pfsph",
+          // It reads WCSPH's settings (registered by WCSPH) and owns the pair strengths.
+          {common::ConfigSectionEntry::of<PfsphConfig>(
+              "pfsph", "PF-SPH pairwise-force strengths (solver pfsph only)")},
+          {},
+          [](const SceneConfig& scene) -> std::unique_ptr<PressureSolver> {
+            return std::make_unique<PfsphSolver>(scene);
+          }};
+}
+
+PfsphSolver::PfsphSolver(const SceneConfig& scene)
+    : WcsphSolver(scene.settings<WcsphConfig>("wcsph"), scene.particle_diameter(),
+                  scene.time_step.cfl, scene.materials.water.density),
+      config_(scene.settings<PfsphConfig>("pfsph")),
+      reference_density_(scene.materials.water.density) {}
+
+void PfsphSolver::after_non_pressure_forces(SolverHost& host, Real) {
+  common::ScopedTimer timer(host.time_split().solver_parts["pairwise_force"]);
+  FluidParticles& fluid = host.mutable_fluid();
+  const ParticleNeighbourhood& nb = host.neighbourhood();
+  const BoundaryParticles& boundary = host.boundary();
+  const long n = long(fluid.active_count());
+  const Real h = nb.support_radius();
+  const Real wave = Real(3 * M_PI / 2) / h;
+  const Real strength[2][2] = {{config_.water_water, config_.oil_water},
+                               {config_.oil_water, config_.oil_oil}};
+  const bool walls = config_.boundary != 0;
+  const Vec3* x = fluid.position.data();
+  auto pair_force = [&](const Vec3& d) -> Vec3 {
+    const Real r = d.norm();
+    if (r <= Real(1e-9) * h || r >= h) return Vec3::Zero();
+    return (std::cos(wave * r) / r) * d;
+  };
+#pragma omp parallel for schedule(dynamic, 64)
+  for (long li = 0; li < n; ++li) {
+    const Index i = Index(li);
+    const int phase_i = fluid.oil_fraction[i] >= Real(0.5);
+    Vec3 a = Vec3::Zero();
+    nb.fluid.for_each(i, [&](Index j, Index) {
+      const int phase_j = fluid.oil_fraction[j] >= Real(0.5);
+      a += strength[phase_i][phase_j] * pair_force(x[i] - x[j]);
+    });
+    if (walls)
+      nb.boundary.for_each(i, [&](Index b, Index) {
+        a += config_.boundary * pair_force(x[i] - boundary.position[b]);
+      });
+    fluid.acceleration[i] += (reference_density_ / fluid.rest_density[i]) * a;
+  }
+}
+
+}  // namespace sph

@@ -1,0 +1,74 @@
+#pragma once
+// The terms the incompressible solvers of the number-density formulation share (DFSPH, IISPH,
+// PBF; derivation in dfsph_solver.h). With g_ij = V_j grad W_ij (stored per pair), the boundary's
+// gb_i = sum_b V_b grad W_ib and r_i = rho_ref / rho0_i:
+//   the rate of change of rho/rho0:  sum_j (v_i - v_j) . g_ij + v_i . gb_i (the boundary rests);
+//   the velocity change of a dt-free stiffness field s (m^2):
+//       dv_i = -(r_i / dt) [ sum_j (s_i + s_j) g_ij + s_i gb_i ];
+//   the diagonal of that linear map from s to the density change, 1 / alpha_i with
+//       alpha_i = 1 / (r_i |sum_j g_ij + gb_i|^2 + sum_j r_j |g_ij|^2).
+
+#include <vector>
+
+#include "sph/core/particle_set.h"
+#include "sph/neighbours/neighbourhood.h"
+
+namespace sph::pressure_terms {
+
+// Rate of change of rho_i/rho0_i from the velocities v.
+inline Real density_rate(Index i, const Vec3* v, const ParticleNeighbourhood& nb) {
+  const Vec3 vi = v[i];
+  Real rate = vi.dot(nb.boundary_gradient_sum[i]);
+  const auto& ff = nb.fluid;
+  for (Index k = ff.lists.offsets[i]; k < ff.lists.offsets[i + 1]; ++k)
+    rate += (vi - v[ff.lists.indices[k]]).dot(ff.gradient[k]);
+  return rate;
+}
+
+// ratio[i] = rho_ref / rho0_i for the first n particles (ratio is resized to the fluid's size).
+inline void density_ratios(const FluidParticles& fluid, Real reference_density,
+                           std::vector<Real>& ratio) {
+  ratio.resize(fluid.size(), 1);
+  for (Index i = 0; i < fluid.active_count(); ++i)
+    ratio[i] = reference_density / fluid.rest_density[i];
+}
+
+// alpha[i] for the active particles (0 where a particle has no neighbours).
+inline void compute_factors(const ParticleNeighbourhood& nb, const std::vector<Real>& ratio,
+                            Index n, std::vector<Real>& alpha) {
+  const Real h = nb.support_radius();
+  const Real tiny = Real(1e-6) / (h * h);
+#pragma omp parallel for schedule(dynamic, 64)
+  for (long li = 0; li < long(n); ++li) {
+    const Index i = Index(li);
+    Vec3 grad_sum = nb.boundary_gradient_sum[i];
+    Real sum_sq = 0;
+    nb.fluid.for_each(i, [&](Index j, Index k) {
+      const Vec3& g = nb.fluid.gradient[k];
+      grad_sum += g;
+      sum_sq += ratio[j] * g.squaredNorm();
+    });
+    const Real denominator = ratio[i] * grad_sum.squaredNorm() + sum_sq;
+    alpha[i] = denominator > tiny ? Real(1) / denominator : Real(0);
+  }
+}
+
+// Calls use(i, dv_i) with the velocity change of the stiffness field s, for the first n
+// particles, in parallel.
+template <class Use>
+void stiffness_velocity_change(const ParticleNeighbourhood& nb, const std::vector<Real>& s,
+                               const std::vector<Real>& ratio, Real dt, Index n, Use&& use) {
+  const Real inv_dt = Real(1) / dt;
+#pragma omp parallel for schedule(dynamic, 64)
+  for (long li = 0; li < long(n); ++li) {
+    const Index i = Index(li);
+    const Real si = s[i];
+    Vec3 dv = si * nb.boundary_gradient_sum[i];
+    const auto& ff = nb.fluid;
+    for (Index k = ff.lists.offsets[i]; k < ff.lists.offsets[i + 1]; ++k)
+      dv += (si + s[ff.lists.indices[k]]) * ff.gradient[k];
+    use(i, Vec3(-(inv_dt * ratio[i]) * dv));
+  }
+}
+
+}  // namespace sph::pressure_terms
