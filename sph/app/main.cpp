@@ -5,6 +5,12 @@
 //   spill-sim bench --scene FILE --compare mtdf,dfsph [--repeat N] [--threads N] [--set ...]
 //   spill-sim generate --scene FILE --trajectories N --out DIR [--vary /pointer=LO:HI ...]
 //                      [--seed S] [--split 0.8/0.1/0.1] [--frames F] [--warm-up S] [--threads N]
+//   spill-sim compare --scene FILE --solvers wcsph,dfsph,... --frames T1,T2,... --out DIR
+//                     [--set /pointer=value ...] [--threads N] [--force]
+//       runs the scene with each solver to the last of the frame counts and writes table.json,
+//       table.md (wall time to each moment, throughput, iterations, density error, spill
+//       metrics) and views.png (a column per solver, a row per moment); exits 1 only when every
+//       solver failed (see solver_table.h)
 //   spill-sim scene-doc
 
 #include <omp.h>
@@ -24,6 +30,7 @@
 #include "sph/app/dataset_generator.h"
 #include "sph/app/scene_runner.h"
 #include "sph/app/solver_comparison.h"
+#include "sph/app/solver_table.h"
 #include "sph/core/config.h"
 #include "sph/core/floating_point.h"
 #include "sph/core/scene.h"
@@ -126,6 +133,36 @@ int main(int argc, char** argv) {
       ->capture_default_str()
       ->check(CLI::PositiveNumber);
 
+  sph::SolverTableRequest table;
+  int table_threads = 0;
+  auto* compare = app.add_subcommand(
+      "compare",
+      "Run a scene with each solver; write a table (table.md, table.json) and a picture grid "
+      "(views.png)");
+  compare->add_option("--scene", table.scene_file, "Scene JSON file")->required();
+  compare
+      ->add_option("--solvers", table.solvers,
+                   "Registered solvers, comma-separated, in column order (e.g. wcsph,dfsph,mtdf)")
+      ->required()
+      ->delimiter(',');
+  compare
+      ->add_option("--frames", table.frames,
+                   "Moments, increasing, in frames of the scene's output/frame_dt, "
+                   "comma-separated (e.g. 40,80,120); every solver runs to the last")
+      ->required()
+      ->delimiter(',');
+  compare->add_option("--out", out_dir, "Output folder (not replaced unless --force)")->required();
+  compare->add_option("--set", table.overrides, "Override a scene value: /json/pointer=value");
+  compare->add_option("--threads", table_threads, "OpenMP threads (default: all cores)")
+      ->check(CLI::PositiveNumber);
+  compare->add_flag("--force", table.force,
+                    "Replace an earlier compare folder (removed after the new one is written)");
+  compare->footer(
+      "A solver that fails is marked in the table with its frame and reason, its later pictures "
+      "are grey, and the others still run. Exit code: 0 when at least one solver finished; 1 "
+      "when every solver failed (nothing is written); 2 for bad input (an unknown solver, a bad "
+      "scene or option, a refused --out); 130 when interrupted (nothing is written).");
+
   auto* doc = app.add_subcommand("scene-doc", "Print the scene parameter reference (Markdown)");
 
   if (const auto stop = common::parse_command_line(app, argc, argv)) return *stop;
@@ -154,6 +191,23 @@ int main(int argc, char** argv) {
       std::cout << "wrote " << out_dir << ": " << summary["steps"] << " steps, "
                 << summary["fluid_particles"] << " fluid particles, "
                 << summary["particle_steps_per_s"].get<double>() << " particle-steps/s\n";
+      return 0;
+    }
+    if (*compare) {
+      std::signal(SIGINT, request_stop);
+      std::signal(SIGTERM, request_stop);
+      table.out_dir = out_dir;
+      table.threads = thread_count(table_threads);
+      table.stop = &g_stop_requested;
+      table.log = &std::cerr;
+      table.terminal = isatty(STDERR_FILENO) != 0;
+      const nlohmann::json written = sph::write_solver_table(table);
+      int failed = 0;
+      for (const auto& row : written["rows"]) failed += row["status"] != "ok";
+      std::cout << "wrote " << out_dir << ": " << written["rows"].size() << " solvers"
+                << (failed ? " (" + std::to_string(failed) + " failed, see table.md)" : "")
+                << ", views.png " << written["views"]["width"] << " x "
+                << written["views"]["height"] << "\n";
       return 0;
     }
     if (*generate) {

@@ -47,8 +47,10 @@ nlohmann::json frame_json(const Simulation& sim, const FrameStats& f) {
           {"kinetic_energy", sim.kinetic_energy()}};
 }
 
-nlohmann::json summary_json(const Simulation& sim, double wall_s, double iterations_density,
-                            double iterations_divergence, int threads) {
+}  // namespace
+
+nlohmann::json run_summary(const Simulation& sim, double wall_s, double iterations_density,
+                           double iterations_divergence, int threads) {
   const TimeSplit& t = sim.timing();
   const double particle_steps = double(sim.steps()) * double(sim.fluid().active_count());
   nlohmann::json summary = {{"wall_s", wall_s},
@@ -73,6 +75,22 @@ nlohmann::json summary_json(const Simulation& sim, double wall_s, double iterati
         {"emitted", flow->emitted()}, {"retired", flow->retired()}, {"fallen", flow->fallen()}};
   return summary;
 }
+
+std::unique_ptr<SpillMetrics> river_spill_metrics(const SceneConfig& scene) {
+  if (scene.leaks.empty() || !scene.terrain_grid) return nullptr;
+  Real leak_x = scene.leaks[0].x;
+  for (const auto& leak : scene.leaks) leak_x = std::min(leak_x, leak.x);
+  return std::make_unique<SpillMetrics>(*scene.terrain_grid, scene.terrain->water_level, leak_x,
+                                        scene.particle_diameter(), scene.watch_points);
+}
+
+void measure_spill(SpillMetrics& spill, const Simulation& sim) {
+  double released = 0;
+  for (const auto& e : sim.emitters()) released += e.oil_released();
+  spill.measure(sim.fluid(), sim.time(), released);
+}
+
+namespace {
 
 PlyPoints fluid_points(const Simulation& sim) {
   const FluidParticles& f = sim.fluid();
@@ -212,15 +230,8 @@ nlohmann::json run_scene(const LoadedScene& scene, const RunOptions& options) {
         picture_points(sim.boundary().position, Index(sim.boundary().size())),
         common::Bounds{sim.domain().min.cast<float>(), sim.domain().max.cast<float>()},
         float(scene.config.particle_radius));
-  // Spill metrics for scenes with a leak over terrain, measured from the most upstream leak.
-  std::unique_ptr<SpillMetrics> spill;
-  if (!scene.config.leaks.empty() && scene.config.terrain_grid) {
-    Real leak_x = scene.config.leaks[0].x;
-    for (const auto& leak : scene.config.leaks) leak_x = std::min(leak_x, leak.x);
-    spill = std::make_unique<SpillMetrics>(
-        *scene.config.terrain_grid, scene.config.terrain->water_level, leak_x,
-        scene.config.particle_diameter(), scene.config.watch_points);
-  }
+  // Spill metrics for scenes with a leak over terrain.
+  const std::unique_ptr<SpillMetrics> spill = river_spill_metrics(scene.config);
   // The slick's shape for oil on still water (a tank, no river leak).
   std::unique_ptr<StillWaterSlickMetrics> slick;
   bool has_oil = false;
@@ -229,11 +240,7 @@ nlohmann::json run_scene(const LoadedScene& scene, const RunOptions& options) {
   if (!spill && has_oil)
     slick = std::make_unique<StillWaterSlickMetrics>(scene.config.particle_diameter());
   auto record = [&](int frame) {
-    if (spill) {
-      double released = 0;
-      for (const auto& e : sim.emitters()) released += e.oil_released();
-      spill->measure(sim.fluid(), sim.time(), released);
-    }
+    if (spill) measure_spill(*spill, sim);
     if (slick) slick->measure(sim.fluid(), sim.time());
     std::vector<std::uint8_t> active(sim.fluid().size(), 0);
     for (Index i = 0; i < sim.fluid().active_count(); ++i) active[sim.fluid().id[i]] = 1;
@@ -270,8 +277,8 @@ nlohmann::json run_scene(const LoadedScene& scene, const RunOptions& options) {
     if (frame == save_frame) sim.save_state((staging / "state.h5").string());
   });
   writer.close();
-  nlohmann::json summary = summary_json(sim, totals.wall_s, totals.iterations_density,
-                                        totals.iterations_divergence, options.threads);
+  nlohmann::json summary = run_summary(sim, totals.wall_s, totals.iterations_density,
+                                       totals.iterations_divergence, options.threads);
   write_json(staging / "stats.json", {{"frames", frame_list}, {"summary", summary}});
   if (options.png)
     encode_animation(staging, scene.config.terrain_grid ? "river" : "side", first, 1 / frame_dt,
@@ -303,8 +310,8 @@ nlohmann::json benchmark_scene(const LoadedScene& scene, int threads, std::ostre
   loop.progress = log ? &progress : nullptr;
   const FrameLoopTotals totals = run_frames(sim, loop, [](int, const FrameStats&, double) {});
   const double steps = double(std::max(1L, sim.steps()));
-  nlohmann::json j = summary_json(sim, totals.wall_s, totals.iterations_density,
-                                  totals.iterations_divergence, threads);
+  nlohmann::json j = run_summary(sim, totals.wall_s, totals.iterations_density,
+                                 totals.iterations_divergence, threads);
   j["scene"] = scene.config.name;
   j["solver"] = scene.config.solver;
   j["density_error_avg_percent"] = totals.density_error_avg * 100;

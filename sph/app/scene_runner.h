@@ -6,6 +6,7 @@
 
 #include <atomic>
 #include <filesystem>
+#include <memory>
 #include <nlohmann/json.hpp>
 #include <ostream>
 
@@ -13,6 +14,7 @@
 #include "sph/core/scene.h"
 #include "sph/core/simulation.h"
 #include "sph/core/simulation_error.h"
+#include "sph/river/spill_metrics.h"
 
 namespace sph {
 
@@ -34,6 +36,18 @@ nlohmann::json run_scene(const LoadedScene& scene, const RunOptions& options);
 
 // Runs a scene without writing anything and returns performance figures (for `spill-sim bench`).
 nlohmann::json benchmark_scene(const LoadedScene& scene, int threads, std::ostream* log);
+
+// The summary of a run that stats.json holds: wall time, steps, particle counts, particle-steps
+// per second (steps x active fluid particles at the end / wall_s), mean solver iterations per
+// step, thread count and the time split.
+nlohmann::json run_summary(const Simulation& sim, double wall_s, double iterations_density,
+                           double iterations_divergence, int threads);
+
+// The spill metrics of a scene with a leak over terrain, measured from the most upstream leak;
+// nullptr for other scenes.
+std::unique_ptr<SpillMetrics> river_spill_metrics(const SceneConfig& scene);
+// Measures the simulation's current frame (its oil released so far from its emitters).
+void measure_spill(SpillMetrics& spill, const Simulation& sim);
 
 // metadata.json content of a run (data-contract keys; see README).
 nlohmann::json run_metadata(const Simulation& sim, const LoadedScene& scene, int frames);

@@ -18,18 +18,35 @@ double forces_entry(const nlohmann::json& run, const char* force) {
 
 }  // namespace
 
+std::vector<LoadedScene> load_scene_per_solver(const std::string& scene_file,
+                                               const std::vector<std::string>& overrides,
+                                               const std::vector<std::string>& solvers,
+                                               const std::string& option) {
+  const std::vector<std::string> known = pressure_solver_names();
+  for (const std::string& solver : solvers)
+    if (std::find(known.begin(), known.end(), solver) == known.end()) {
+      std::string list;
+      for (const auto& name : known) list += (list.empty() ? "" : ", ") + name;
+      throw common::InputError(option + ": unknown solver \"" + solver + "\" (registered: " + list +
+                               ")");
+    }
+  std::vector<LoadedScene> scenes;
+  for (const std::string& solver : solvers) {
+    std::vector<std::string> with_solver = overrides;
+    with_solver.push_back("/solver=\"" + solver + "\"");
+    scenes.push_back(load_scene(scene_file, with_solver));
+  }
+  return scenes;
+}
+
 nlohmann::json compare_solvers(const SolverComparison& comparison, std::ostream* log) {
   if (comparison.solvers.size() < 2)
     throw common::InputError(
         "--compare needs at least two solvers, comma-separated (e.g. mtdf,dfsph)");
   if (comparison.repeat < 1) throw common::InputError("--repeat must be at least 1");
   // Load every variant before running any, so that a bad solver name fails at once.
-  std::vector<LoadedScene> scenes;
-  for (const std::string& solver : comparison.solvers) {
-    std::vector<std::string> overrides = comparison.overrides;
-    overrides.push_back("/solver=\"" + solver + "\"");
-    scenes.push_back(load_scene(comparison.scene_file, overrides));
-  }
+  const std::vector<LoadedScene> scenes = load_scene_per_solver(
+      comparison.scene_file, comparison.overrides, comparison.solvers, "--compare");
   std::vector<std::vector<nlohmann::json>> runs(scenes.size());
   for (int r = 0; r < comparison.repeat; ++r)
     for (size_t s = 0; s < scenes.size(); ++s) {

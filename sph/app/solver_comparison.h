@@ -9,7 +9,18 @@
 #include <string>
 #include <vector>
 
+#include "sph/core/scene.h"
+
 namespace sph {
+
+// The scene loaded once per solver, each with "/solver=NAME" after `overrides`, in the order of
+// `solvers`. Every name is checked against the registry before any scene is loaded: an unknown
+// one is a common::InputError naming `option`, the name and the registered solvers. Throws
+// ConfigError for a bad scene or override.
+std::vector<LoadedScene> load_scene_per_solver(const std::string& scene_file,
+                                               const std::vector<std::string>& overrides,
+                                               const std::vector<std::string>& solvers,
+                                               const std::string& option);
 
 struct SolverComparison {
   std::string scene_file;
@@ -21,8 +32,8 @@ struct SolverComparison {
 
 // Returns {"scene", "solvers", "repeat", "wall_s": {solver: [runs]}, "median_wall_s",
 // "ratio", "mixture_model_s", "surface_tension_s", "results": [median run of each solver]}.
-// Throws ConfigError for an unknown solver or a bad scene, common::InputError for fewer than
-// two solvers or no repeat.
+// Throws common::InputError for an unknown solver, fewer than two solvers or no repeat,
+// ConfigError for a bad scene.
 nlohmann::json compare_solvers(const SolverComparison& comparison, std::ostream* log);
 
 }  // namespace sph
