@@ -73,15 +73,26 @@ common::RgbImage render_view(const Simulation& sim, const common::FrameRenderer&
   return renderer.render(points, oil, axis);
 }
 
-// The spill metrics at the last measured frame, with the first bank contacts and arrivals.
-nlohmann::json spill_at_end(const SpillMetrics& spill) {
+// What a responder compares between solvers: the largest slick and how far its front got over
+// the whole run (at the end of a long run the oil may have left the reach), with the first bank
+// contacts and arrivals, from the same per-frame metrics a run's spill.json holds.
+nlohmann::json spill_summary(const SpillMetrics& spill) {
   const nlohmann::json all = spill.to_json();
-  nlohmann::json end = all.at("frames").back();
-  for (const char* key : {"patches", "equivalent_radius_m", "mean_thickness_m"}) end.erase(key);
-  end["first_left_bank_contact_s"] = all.at("first_left_bank_contact_s");
-  end["first_right_bank_contact_s"] = all.at("first_right_bank_contact_s");
-  end["arrival_s"] = all.at("arrival_s");
-  return end;
+  double peak_area = 0, peak_area_t = 0, furthest = 0;
+  for (const auto& frame : all.at("frames")) {
+    const double area = frame.at("slick_area_m2").get<double>();
+    if (area > peak_area) {
+      peak_area = area;
+      peak_area_t = frame.at("t").get<double>();
+    }
+    furthest = std::max(furthest, frame.at("front_distance_m").get<double>());
+  }
+  return {{"peak_slick_area_m2", peak_area},
+          {"peak_slick_area_t_s", peak_area_t},
+          {"furthest_front_m", furthest},
+          {"first_left_bank_contact_s", all.at("first_left_bank_contact_s")},
+          {"first_right_bank_contact_s", all.at("first_right_bank_contact_s")},
+          {"arrival_s", all.at("arrival_s")}};
 }
 
 std::string failure_text(const nlohmann::json& failure) {
@@ -156,7 +167,7 @@ SolverRun run_solver(const LoadedScene& scene, const SolverTableRequest& r, doub
     out.row["iterations_divergence"] = totals.iterations_divergence;
     out.row["density_error_percent"] = 100 * last.density_error_avg;
     out.row["fluid_particles"] = summary.at("fluid_particles");
-    if (spill) out.row["spill"] = spill_at_end(*spill);
+    if (spill) out.row["spill"] = spill_summary(*spill);
     out.row["summary"] = summary;
     if (r.log) progress.finish(std::to_string(sim.steps()) + " steps");
   } catch (const common::Interrupted&) {
@@ -228,8 +239,8 @@ std::string solver_table_markdown(const nlohmann::json& table) {
   md << " | particle-steps/s | density it./step | divergence it./step | density error % (end) | "
         "fluid particles";
   if (spill)
-    md << " | slick area m² (end) | front m (end) | left bank first oiled s | right bank first "
-          "oiled s";
+    md << " | peak slick area m² (at s) | furthest front m | left bank first oiled s | right "
+          "bank first oiled s";
   md << " |\n|---|---";
   for (size_t k = 0; k < table.at("times_s").size(); ++k) md << "|---:";
   md << "|---:|---:|---:|---:|---:" << (spill ? "|---:|---:|---:|---:" : "") << "|\n";
@@ -250,8 +261,9 @@ std::string solver_table_markdown(const nlohmann::json& table) {
     if (spill) {
       if (row.contains("spill")) {
         const nlohmann::json& s = row.at("spill");
-        md << " | " << format("%.3f", s.at("slick_area_m2").get<double>()) << " | "
-           << format("%.2f", s.at("front_distance_m").get<double>()) << " | "
+        md << " | " << format("%.3f", s.at("peak_slick_area_m2").get<double>()) << " ("
+           << format("%g", s.at("peak_slick_area_t_s").get<double>()) << ") | "
+           << format("%.2f", s.at("furthest_front_m").get<double>()) << " | "
            << optional_seconds(s.at("first_left_bank_contact_s")) << " | "
            << optional_seconds(s.at("first_right_bank_contact_s"));
       } else {
@@ -380,7 +392,9 @@ nlohmann::json write_solver_table(const SolverTableRequest& r) {
         {"iterations_divergence", "mean divergence-free iterations per solver step"},
         {"density_error_percent", "mean relative density error over the last frame's steps, %"},
         {"fluid_particles", "active fluid particles at the end"},
-        {"spill", "river leaks: spill metrics at the end (see a run's spill.json)"},
+        {"spill",
+         "river leaks: the largest slick area over the run and when, the furthest front, first "
+         "bank contacts and arrivals (per frame in a run's spill.json)"},
         {"failure",
          "the frame being simulated when the run failed (null: while setting up), "
          "the simulated time it had reached and the error"}}}};

@@ -3,7 +3,8 @@
 // the MTDF-SPH paper's Table 3 and Fig. 10 from one command. Writes into one output folder:
 //   table.json  per solver: wall time to each moment, particle-steps per second, mean pressure
 //               iterations per step, final mean density error, fluid particles and, for a leak
-//               in a river, the spill metrics at the end (sph/river/spill_metrics.h);
+//               in a river, the largest slick area, the furthest front and the first bank
+//               contacts over the run (sph/river/spill_metrics.h);
 //   table.md    the same as a Markdown table, with the scene, frame_dt, threads and machine;
 //   views.png   one column per solver, one row per moment, each cell the river's map view (the
 //               top view without terrain); oil is a particle with oil fraction >= 0.5.
