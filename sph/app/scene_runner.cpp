@@ -124,7 +124,8 @@ void write_pictures(const Simulation& sim, const common::FrameRenderer& renderer
   const FluidParticles& f = sim.fluid();
   const std::vector<common::Point> fluid = picture_points(f.position, f.active_count());
   std::vector<std::uint8_t> types;
-  for (Index i = 0; i < f.active_count(); ++i) types.push_back(f.type[i] == ParticleType::kOil);
+  // Oil is where the oil fraction is at least 1/2 (MTDF-SPH moves oil between particles).
+  for (Index i = 0; i < f.active_count(); ++i) types.push_back(f.oil_fraction[i] >= Real(0.5));
   write_png((dir / frame_file("side", frame, "png")).string(),
             renderer.render(fluid, types, ViewAxis::kSide));
   write_png((dir / frame_file("top", frame, "png")).string(),
