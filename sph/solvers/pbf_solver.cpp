@@ -29,8 +29,7 @@ void PbfSolver::project_constraints(FluidParticles& fluid, const ParticleNeighbo
                                     double& error_avg, Real& error_max) {
   const long n = long(fluid.active_count());
   const Real epsilon = config_.relaxation_epsilon / (diameter_ * diameter_);
-  const Real h = nb.support_radius();
-  const Real tiny = Real(1e-6) / (h * h);
+  const Real tiny = pressure_terms::smallest_factor_denominator(nb);
   double sum = 0;
   Real largest = 0;
   // lambda_i = -C_i / (1/alpha_i + epsilon), with 1/alpha_i from pressure_terms.h.
@@ -40,14 +39,8 @@ void PbfSolver::project_constraints(FluidParticles& fluid, const ParticleNeighbo
     const Real c = std::max(fluid.density[i] - Real(1), Real(0));
     Real lambda = 0;
     if (c > 0) {
-      Vec3 grad_sum = nb.boundary_gradient_sum[i];
-      Real sum_sq = 0;
-      nb.fluid.for_each(i, [&](Index j, Index k) {
-        const Vec3& g = nb.fluid.gradient[k];
-        grad_sum += g;
-        sum_sq += density_ratio_[j] * g.squaredNorm();
-      });
-      const Real norm = density_ratio_[i] * grad_sum.squaredNorm() + sum_sq;
+      // Only compressed particles need it (C_i > 0).
+      const Real norm = pressure_terms::factor_denominator(i, nb, density_ratio_);
       if (norm > tiny) lambda = -c / (norm + epsilon);
     }
     lambda_[i] = lambda;

@@ -33,22 +33,33 @@ inline void density_ratios(const FluidParticles& fluid, Real reference_density,
     ratio[i] = reference_density / fluid.rest_density[i];
 }
 
+// 1 / alpha_i: r_i |sum_j g_ij + gb_i|^2 + sum_j r_j |g_ij|^2.
+inline Real factor_denominator(Index i, const ParticleNeighbourhood& nb,
+                               const std::vector<Real>& ratio) {
+  Vec3 grad_sum = nb.boundary_gradient_sum[i];
+  Real sum_sq = 0;
+  nb.fluid.for_each(i, [&](Index j, Index k) {
+    const Vec3& g = nb.fluid.gradient[k];
+    grad_sum += g;
+    sum_sq += ratio[j] * g.squaredNorm();
+  });
+  return ratio[i] * grad_sum.squaredNorm() + sum_sq;
+}
+
+// Below this a denominator means no neighbours (alpha is then 0).
+inline Real smallest_factor_denominator(const ParticleNeighbourhood& nb) {
+  const Real h = nb.support_radius();
+  return Real(1e-6) / (h * h);
+}
+
 // alpha[i] for the active particles (0 where a particle has no neighbours).
 inline void compute_factors(const ParticleNeighbourhood& nb, const std::vector<Real>& ratio,
                             Index n, std::vector<Real>& alpha) {
-  const Real h = nb.support_radius();
-  const Real tiny = Real(1e-6) / (h * h);
+  const Real tiny = smallest_factor_denominator(nb);
 #pragma omp parallel for schedule(dynamic, 64)
   for (long li = 0; li < long(n); ++li) {
     const Index i = Index(li);
-    Vec3 grad_sum = nb.boundary_gradient_sum[i];
-    Real sum_sq = 0;
-    nb.fluid.for_each(i, [&](Index j, Index k) {
-      const Vec3& g = nb.fluid.gradient[k];
-      grad_sum += g;
-      sum_sq += ratio[j] * g.squaredNorm();
-    });
-    const Real denominator = ratio[i] * grad_sum.squaredNorm() + sum_sq;
+    const Real denominator = factor_denominator(i, nb, ratio);
     alpha[i] = denominator > tiny ? Real(1) / denominator : Real(0);
   }
 }
