@@ -21,8 +21,7 @@ PressureSolverEntry PfsphSolver::entry() {
 PfsphSolver::PfsphSolver(const SceneConfig& scene)
     : WcsphSolver(scene.settings<WcsphConfig>("wcsph"), scene.particle_diameter(),
                   scene.time_step.cfl, scene.materials.water.density),
-      config_(scene.settings<PfsphConfig>("pfsph")),
-      reference_density_(scene.materials.water.density) {}
+      config_(scene.settings<PfsphConfig>("pfsph")) {}
 
 void PfsphSolver::after_non_pressure_forces(SolverHost& host, Real) {
   common::ScopedTimer timer(host.time_split().solver_parts["pairwise_force"]);
@@ -54,7 +53,7 @@ void PfsphSolver::after_non_pressure_forces(SolverHost& host, Real) {
       nb.boundary.for_each(i, [&](Index b, Index) {
         a += config_.boundary * pair_force(x[i] - boundary.position[b]);
       });
-    fluid.acceleration[i] += (reference_density_ / fluid.rest_density[i]) * a;
+    fluid.acceleration[i] += (reference_density() / fluid.rest_density[i]) * a;
   }
 }
 

@@ -52,7 +52,6 @@ class PfsphSolver : public WcsphSolver {
   void after_non_pressure_forces(SolverHost& host, Real dt) override;
 
   PfsphConfig config_;
-  Real reference_density_;
 };
 
 }  // namespace sph

@@ -43,6 +43,7 @@ class WcsphSolver : public PressureSolver {
   // Where a solver built on WCSPH (PF-SPH) adds accelerations: after the non-pressure forces of
   // step dt, before the pressure acceleration and the integration.
   virtual void after_non_pressure_forces(SolverHost&, Real /*dt*/) {}
+  Real reference_density() const { return reference_density_; }  // rho_ref (water)
 
  private:
   WcsphConfig config_;

@@ -13,6 +13,7 @@
 
 #include "sph/core/scene.h"
 #include "sph/core/simulation.h"
+#include "tests/sph/fluid_measures.h"
 
 namespace sph {
 namespace {
@@ -33,12 +34,7 @@ struct DamBreakResult {
   double interior_density_error = 0;  // mean rho/rho0 - 1 away from the free surface
 };
 
-double total_mass(const FluidParticles& f) {
-  double m = 0;
-  for (Index i = 0; i < f.active_count(); ++i)
-    m += double(f.rest_density[i]) * double(f.rest_volume[i]);
-  return m;
-}
+using testing_support::total_mass;
 
 DamBreakResult run_martin_moyce(const std::vector<std::string>& overrides) {
   const LoadedScene scene =

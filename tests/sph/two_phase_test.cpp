@@ -14,6 +14,7 @@
 
 #include "sph/core/scene.h"
 #include "sph/core/simulation.h"
+#include "tests/sph/fluid_measures.h"
 
 namespace sph {
 namespace {
@@ -42,12 +43,7 @@ std::pair<long, long> unlike_pairs(const FluidParticles& f, double radius) {
   return {unlike, all};
 }
 
-double total_mass(const FluidParticles& f) {
-  double m = 0;
-  for (Index i = 0; i < f.active_count(); ++i)
-    m += double(f.rest_density[i]) * double(f.rest_volume[i]);
-  return m;
-}
+using testing_support::total_mass;
 
 // Ratio of the largest to the smallest principal radius of gyration of the active particles.
 double gyration_ratio(const FluidParticles& f) {
