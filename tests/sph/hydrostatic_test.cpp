@@ -58,7 +58,7 @@ HydrostaticResult run_hydrostatic(const std::string& scene_name,
   };
   double oil_volume = 0;
   for (Index i = 0; i < fluid.active_count(); ++i)
-    if (fluid.type[i] == ParticleType::kOil) oil_volume += double(fluid.rest_volume[i]);
+    oil_volume += double(fluid.oil_fraction[i]) * double(fluid.rest_volume[i]);
   const double oil_depth = oil_volume / (double(hi[0] - lo[0]) * double(hi[1] - lo[1]));
 
   // Average pressure and depth in horizontal bins one diameter thick, at least two support radii
@@ -233,8 +233,9 @@ TEST_P(OilLayerBySolver, StaysOnTopOfWaterAtRest) {
   double max_speed = 0;
   for (Index i = 0; i < fluid.active_count(); ++i) {
     const double z = double(fluid.position[i][2]);
-    if (fluid.type[i] == ParticleType::kOil && z < interface - diameter) ++oil_below;
-    if (fluid.type[i] == ParticleType::kWater && z > interface + diameter) ++water_above;
+    const bool oil = fluid.oil_fraction[i] >= Real(0.5);  // the phase rule of spill.json
+    if (oil && z < interface - diameter) ++oil_below;
+    if (!oil && z > interface + diameter) ++water_above;
     max_speed = std::max(max_speed, double(fluid.velocity[i].norm()));
   }
   EXPECT_EQ(oil_below, 0) << "oil particles more than a diameter below the interface";
