@@ -1,5 +1,8 @@
 #include "sph/neighbours/neighbourhood.h"
 
+#include <cmath>
+#include <vector>
+
 namespace sph {
 
 ParticleNeighbourhood::ParticleNeighbourhood(const Aabb& domain, KernelKind kernel,
@@ -21,6 +24,57 @@ void ParticleNeighbourhood::update(FluidParticles& fluid, const BoundaryParticle
   update_pair_kernels(fluid, boundary);
 }
 
+namespace {
+
+// One thread's contiguous copies of a particle's pair offsets and kernel terms.
+struct PairScratch {
+  std::vector<Real> dx, dy, dz, w, g;
+  void fit(size_t m) {
+    if (dx.size() >= m) return;
+    for (auto* v : {&dx, &dy, &dz, &w, &g}) v->resize(m);
+  }
+};
+
+// Kernel values and volume-weighted gradients of the pairs [begin, end) of particle i (at xi),
+// whose neighbours are at x with volumes `volume`. The offsets are first gathered into
+// contiguous arrays so that the kernel itself (a square root, a division and a few polynomials
+// per pair) runs as SIMD over the pairs; evaluated pair by pair it stalled on the division's
+// latency. Adds sum_j V_j W_ij to `density` and sum_j V_j grad W_ij to `gradient_sum`.
+template <class Kernel>
+void evaluate_pairs(const Kernel& kernel, const Vec3& xi, const Vec3* x, const Real* volume,
+                    const Index* neighbours, Index begin, Index end, PairTable& table,
+                    PairScratch& s, Real& density, Vec3& gradient_sum) {
+  const size_t m = size_t(end - begin);
+  s.fit(m);
+  Real* dx = s.dx.data();
+  Real* dy = s.dy.data();
+  Real* dz = s.dz.data();
+  Real* w = s.w.data();
+  Real* g = s.g.data();
+  for (size_t t = 0; t < m; ++t) {
+    const Vec3& xj = x[neighbours[begin + Index(t)]];
+    dx[t] = xi[0] - xj[0];
+    dy[t] = xi[1] - xj[1];
+    dz[t] = xi[2] - xj[2];
+  }
+#pragma omp simd
+  for (size_t t = 0; t < m; ++t) {
+    const Real r = std::sqrt(dx[t] * dx[t] + dy[t] * dy[t] + dz[t] * dz[t]);
+    w[t] = kernel.value_and_radial_factor(r, g[t]);
+  }
+  for (size_t t = 0; t < m; ++t) {
+    const Index k = begin + Index(t);
+    const Real vj = volume[neighbours[k]];
+    const Real scale = vj * g[t];
+    table.value[k] = w[t];
+    table.gradient[k] = Vec3(scale * dx[t], scale * dy[t], scale * dz[t]);
+    gradient_sum += table.gradient[k];
+    density += vj * w[t];
+  }
+}
+
+}  // namespace
+
 void ParticleNeighbourhood::update_pair_kernels(FluidParticles& fluid,
                                                 const BoundaryParticles& boundary) {
   const Index n = fluid.active_count();
@@ -32,37 +86,25 @@ void ParticleNeighbourhood::update_pair_kernels(FluidParticles& fluid,
 
   with_kernel(kernel_, support_radius_, [&](const auto& w) {
     const Vec3* x = fluid.position.data();
-    const Vec3* xb = boundary.position.data();
     const Real* volume = fluid.rest_volume.data();
-    const Real* volume_b = boundary_volume_.data();
     PairTable& ff = this->fluid;
     PairTable& fb = this->boundary;
-#pragma omp parallel for schedule(dynamic, 64)
-    for (long li = 0; li < long(n); ++li) {
-      const Index i = Index(li);
-      Real density = volume[i] * w_zero_;
-      for (Index k = ff.lists.offsets[i]; k < ff.lists.offsets[i + 1]; ++k) {
-        const Index j = ff.lists.indices[k];
-        const Vec3 r = x[i] - x[j];
-        Vec3 grad;
-        const Real wij = w.value_and_gradient(r, grad);
-        ff.value[k] = wij;
-        ff.gradient[k] = volume[j] * grad;
-        density += volume[j] * wij;
+#pragma omp parallel
+    {
+      PairScratch scratch;
+#pragma omp for schedule(dynamic, 64)
+      for (long li = 0; li < long(n); ++li) {
+        const Index i = Index(li);
+        Real density = volume[i] * w_zero_;
+        Vec3 fluid_gradient_sum = Vec3::Zero(), boundary_sum = Vec3::Zero();
+        evaluate_pairs(w, x[i], x, volume, ff.lists.indices.data(), ff.lists.offsets[i],
+                       ff.lists.offsets[i + 1], ff, scratch, density, fluid_gradient_sum);
+        evaluate_pairs(w, x[i], boundary.position.data(), boundary_volume_.data(),
+                       fb.lists.indices.data(), fb.lists.offsets[i], fb.lists.offsets[i + 1], fb,
+                       scratch, density, boundary_sum);
+        boundary_gradient_sum[i] = boundary_sum;
+        fluid.density[i] = density;
       }
-      Vec3 grad_sum = Vec3::Zero();
-      for (Index k = fb.lists.offsets[i]; k < fb.lists.offsets[i + 1]; ++k) {
-        const Index b = fb.lists.indices[k];
-        const Vec3 r = x[i] - xb[b];
-        Vec3 grad;
-        const Real wib = w.value_and_gradient(r, grad);
-        fb.value[k] = wib;
-        fb.gradient[k] = volume_b[b] * grad;
-        grad_sum += fb.gradient[k];
-        density += volume_b[b] * wib;
-      }
-      boundary_gradient_sum[i] = grad_sum;
-      fluid.density[i] = density;
     }
     return 0;
   });
