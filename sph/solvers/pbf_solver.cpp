@@ -26,30 +26,26 @@ PbfSolver::PbfSolver(const PbfConfig& config, Real particle_diameter, Real refer
     : config_(config), diameter_(particle_diameter), reference_density_(reference_density) {}
 
 void PbfSolver::project_constraints(FluidParticles& fluid, const ParticleNeighbourhood& nb,
-                                    double& error_avg, Real& error_max) {
+                                    bool fresh_kernels) {
   const long n = long(fluid.active_count());
   const Real epsilon = config_.relaxation_epsilon / (diameter_ * diameter_);
   const Real tiny = pressure_terms::smallest_factor_denominator(nb);
-  double sum = 0;
-  Real largest = 0;
   // lambda_i = -C_i / (1/alpha_i + epsilon), with 1/alpha_i from pressure_terms.h.
-#pragma omp parallel for schedule(dynamic, 64) reduction(+ : sum) reduction(max : largest)
+#pragma omp parallel for schedule(dynamic, 64)
   for (long li = 0; li < n; ++li) {
     const Index i = Index(li);
-    const Real c = std::max(fluid.density[i] - Real(1), Real(0));
-    Real lambda = 0;
-    if (c > 0) {
-      // Only compressed particles need it (C_i > 0).
-      const Real norm = pressure_terms::factor_denominator(i, nb, density_ratio_);
-      if (norm > tiny) lambda = -c / (norm + epsilon);
+    if (fresh_kernels) {
+      denominator_[i] = pressure_terms::factor_denominator(i, nb, density_ratio_);
+    } else {
+      // The last correction's first-order change of rho_i (see the header).
+      fluid.density[i] += pressure_terms::density_change(i, nb, correction_);
     }
+    const Real c = std::max(fluid.density[i] - Real(1), Real(0));
+    // Only compressed particles need it (C_i > 0).
+    const Real lambda = c > 0 && denominator_[i] > tiny ? -c / (denominator_[i] + epsilon) : 0;
     lambda_[i] = lambda;
     stiffness_[i] -= lambda;
-    sum += double(c);
-    largest = std::max(largest, c);
   }
-  error_avg = n > 0 ? sum / double(n) : 0;
-  error_max = largest;
 
   const Real k = config_.tensile_k * diameter_ * diameter_;
   const Real w_delta_q = with_kernel(nb.kernel(), nb.support_radius(), [&](const auto& w) {
@@ -118,6 +114,7 @@ void PbfSolver::step(SolverHost& host, StepStats& stats) {
   FluidParticles& fluid = host.mutable_fluid();
   const size_t size = fluid.size();
   lambda_.resize(size, 0);
+  denominator_.resize(size, 0);
   stiffness_.resize(size, 0);
   old_position_.resize(size);
   correction_.resize(size);
@@ -153,11 +150,10 @@ void PbfSolver::step(SolverHost& host, StepStats& stats) {
   host.update_neighbourhood();
   const ParticleNeighbourhood& nb = host.neighbourhood();
   for (int it = 0; it < config_.iterations; ++it) {
-    if (it > 0) host.update_pair_kernels();
+    const bool fresh = it == 0 || config_.kernels_every_iteration;
+    if (it > 0 && fresh) host.update_pair_kernels();
     t0 = std::chrono::steady_clock::now();
-    double avg = 0;
-    Real max = 0;
-    project_constraints(fluid, nb, avg, max);
+    project_constraints(fluid, nb, fresh);
     host.time_split().pressure_solve += common::seconds_since(t0);
   }
   host.update_pair_kernels();

@@ -46,6 +46,15 @@ inline Real factor_denominator(Index i, const ParticleNeighbourhood& nb,
   return ratio[i] * grad_sum.squaredNorm() + sum_sq;
 }
 
+// First-order change of rho_i when the particles move by dx with the kernels of the positions
+// before the move: sum_j g_ij . (dx_i - dx_j) + gb_i . dx_i (the boundary rests).
+inline Real density_change(Index i, const ParticleNeighbourhood& nb, const std::vector<Vec3>& dx) {
+  const Vec3 dxi = dx[i];
+  Real change = nb.boundary_gradient_sum[i].dot(dxi);
+  nb.fluid.for_each(i, [&](Index j, Index k) { change += nb.fluid.gradient[k].dot(dxi - dx[j]); });
+  return change;
+}
+
 // Below this a denominator means no neighbours (alpha is then 0).
 inline Real smallest_factor_denominator(const ParticleNeighbourhood& nb) {
   const Real h = nb.support_radius();
