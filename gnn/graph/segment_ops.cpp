@@ -3,8 +3,10 @@
 namespace gnn {
 namespace {
 
-// out[i] = sum of rows offsets[i] .. offsets[i+1] of `values`.
-torch::Tensor csr_sum(const torch::Tensor& values_in, const torch::Tensor& offsets) {
+// out[i] = sum of rows offsets[i] .. offsets[i+1] of `values`, or with `permutation` of rows
+// permutation[offsets[i]] .. permutation[offsets[i+1] - 1].
+torch::Tensor csr_sum(const torch::Tensor& values_in, const torch::Tensor& offsets,
+                      const int64_t* permutation = nullptr) {
   auto values = values_in.contiguous();
   const int64_t n = offsets.size(0) - 1, width = values.size(1);
   auto out = torch::empty({n, width}, values.options());
@@ -16,7 +18,7 @@ torch::Tensor csr_sum(const torch::Tensor& values_in, const torch::Tensor& offse
       float* row = o + i * width;
       for (int64_t c = 0; c < width; ++c) row[c] = 0;
       for (int64_t k = off[i]; k < off[i + 1]; ++k) {
-        const float* src = v + k * width;
+        const float* src = v + (permutation ? permutation[k] : k) * width;
         for (int64_t c = 0; c < width; ++c) row[c] += src[c];
       }
     }
@@ -86,6 +88,15 @@ EdgeOrder edge_order(const torch::Tensor& edge_index, int64_t nodes) {
   o.canonical = (o.reverse < E).all().item<bool>() &&
                 torch::equal(key.index_select(0, o.reverse.clamp_max(E - 1)), reversed_key);
   return o;
+}
+
+torch::Tensor csr_sum_by_receiver(const torch::Tensor& edge_values, const EdgeOrder& o) {
+  return csr_sum(edge_values, o.offsets);
+}
+
+// The edges with sender i are the reverses of the edges with receiver i.
+torch::Tensor csr_sum_by_sender(const torch::Tensor& edge_values, const EdgeOrder& o) {
+  return csr_sum(edge_values, o.offsets, o.reverse.data_ptr<int64_t>());
 }
 
 torch::Tensor gather_receivers(const torch::Tensor& values, const EdgeOrder& o) {

@@ -27,4 +27,9 @@ torch::Tensor gather_senders(const torch::Tensor& values, const EdgeOrder& order
 torch::Tensor sum_to_receivers(const torch::Tensor& edge_values, const EdgeOrder& order,
                                int64_t nodes);
 
+// Without autograd, for a canonical order and float32 CPU rows (hand-written backward passes):
+// out[i] = sum of the rows of `edge_values` whose receiver is i (resp. whose sender is i).
+torch::Tensor csr_sum_by_receiver(const torch::Tensor& edge_values, const EdgeOrder& order);
+torch::Tensor csr_sum_by_sender(const torch::Tensor& edge_values, const EdgeOrder& order);
+
 }  // namespace gnn

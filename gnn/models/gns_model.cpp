@@ -2,9 +2,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <tuple>
 
 #include "common/config_visitors.h"
 #include "gnn/graph/segment_ops.h"
+#include "gnn/models/gns_processor_step.h"
 #include "gnn/runtime/runtime.h"
 
 namespace gnn {
@@ -85,6 +87,13 @@ GnsModel::Latents GnsModel::process(Latents x, const GraphInput& g,
       auto aggregated = sum_to_receivers(e_update, order, g.nodes());
       node_update_in_chunks(k, v, aggregated);
       e.add_(e_update);
+      keep();
+      continue;
+    }
+    if (lean_backward_ && order.canonical && v.is_cpu() && v.scalar_type() == torch::kFloat32) {
+      // Training on the CPU: the same step with a hand-written backward (gns_processor_step.h).
+      std::tie(v, e) = processor_step_with_lean_backward(v, e, *edge_mlp_[k], *receiver_sender_[k],
+                                                         *node_mlp_[k], *aggregate_[k], order);
       keep();
       continue;
     }

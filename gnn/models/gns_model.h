@@ -85,6 +85,11 @@ class GnsModel : public GraphModel {
   double noise_std() const override { return config_.noise_std; }
   nlohmann::json config() const override;
   const GnsConfig& gns_config() const { return config_; }
+  // Training on the CPU runs each processor step with its hand-written backward
+  // (gns_processor_step.h); off, through LibTorch's autograd (the reference it is tested
+  // against).
+  void use_lean_backward(bool on) { lean_backward_ = on; }
+  bool trains_in_chunks() const override { return lean_backward_; }
 
  protected:
   ModelOutput run(const GraphInput& graph, const ForwardOptions& options) override;
@@ -98,6 +103,7 @@ class GnsModel : public GraphModel {
   torch::Tensor edge_update_in_chunks(size_t k, const torch::Tensor& e,
                                       const torch::Tensor& projected, const EdgeOrder& order);
   GnsConfig config_;
+  bool lean_backward_ = true;
   torch::nn::Embedding type_embedding_{nullptr};
   Mlp node_encoder_{nullptr}, edge_encoder_{nullptr}, decoder_{nullptr};
   // Per processor step: the edge MLP (its first Linear applied to e_ij only) with the receiver
