@@ -31,10 +31,13 @@ int main(int argc, char** argv) {
       ->check(CLI::ExistingDirectory);
   app.add_option("--out", options.out_dir, "run folder: log.csv, loss.svg, last.pt")->required();
   app.add_flag("--resume", options.resume, "continue from RUN/last.pt");
-  app.add_option("--threads", threads, "LibTorch, OpenMP and BLAS threads")
+  app.add_option("--threads", threads,
+                 "cores to use; the LibTorch/BLAS split is chosen for the model (see "
+                 "training_runtime in gnn/runtime/runtime.h) unless --blas-threads is given")
       ->check(CLI::PositiveNumber);
   app.add_option("--blas-threads", blas_threads,
-                 "OpenBLAS threads (default: the same as --threads)")
+                 "OpenBLAS threads, with --threads LibTorch threads (default: the measured best "
+                 "split for the model)")
       ->check(CLI::PositiveNumber);
   app.add_option("--set", options.overrides,
                  "override a training config value: /pointer=value (e.g. /steps=200, "
@@ -49,6 +52,14 @@ int main(int argc, char** argv) {
     options.out_dir = common::normalise_output_path(options.out_dir).string();
     options.device = gnn::parse_device(device);
     train::Trainer trainer(options);
+    if (blas_threads == 0) {
+      const gnn::GraphModel& model = trainer.simulator().model();
+      const gnn::RuntimeSettings mix = gnn::training_runtime(threads, model.trains_in_chunks());
+      gnn::configure_runtime(mix);
+      std::cerr << "threads: " << mix.threads << " LibTorch, " << mix.blas_threads
+                << " BLAS (the measured best split for " << model.name() << " on " << threads
+                << ")\n";
+    }
     const double loss = trainer.run();
     std::cout << "trained to step " << trainer.step() << ", loss " << loss << "; run in "
               << options.out_dir << "\n";

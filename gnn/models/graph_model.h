@@ -54,6 +54,9 @@ class GraphModel : public torch::nn::Module {
   virtual double noise_std() const = 0;  // training noise on velocities, m per frame
   // Whether the model reads GraphInput::node_class and link_type (they are built only then).
   virtual bool needs_typing() const { return false; }
+  // Whether training runs the model's heavy products in row chunks side by side (then it wants
+  // BLAS on one thread, see training_runtime in gnn/runtime/runtime.h).
+  virtual bool trains_in_chunks() const { return false; }
   // The resolved config (defaults filled in), stored in checkpoints.
   virtual nlohmann::json config() const = 0;
 

@@ -25,6 +25,19 @@ inline RuntimeSettings inference_runtime(int threads) {
   return {threads, 1};
 }
 
+// Training's thread mix on `threads` cores, by measurement (river_small, GNS-10-128, 3,421
+// nodes and 59,990 edges per graph, 2 cores; steps per second, one run alternating):
+//  - a model that trains in row chunks (GNS's hand-written processor backward) is fastest with
+//    the chunks side by side on the LibTorch threads and BLAS on one: 2 + 1 threads 0.42, 1 + 2
+//    0.27 (serial chunks, each product on 2 BLAS threads);
+//  - a model trained through LibTorch's autograd (whole-tensor products, DPI-Nets) is fastest
+//    with one LibTorch thread and the BLAS threads on every core: 1 + 2 threads 0.400, 2 + 2
+//    0.307, 2 + 1 0.325 (GNS through autograd, the figures of the training-speed issue).
+inline RuntimeSettings training_runtime(int threads, bool trains_in_chunks) {
+  if (trains_in_chunks) return {threads, 1};
+  return {1, threads};
+}
+
 void configure_runtime(const RuntimeSettings& settings);
 
 // OpenBLAS's thread count as configure_runtime set it (1 when the BLAS is not OpenBLAS: the
