@@ -14,6 +14,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <fstream>
 #include <iostream>
 #include <nlohmann/json.hpp>
@@ -98,6 +99,22 @@ int main(int argc, char** argv) {
   app.add_option("--train-particles", train_particles,
                  "lattice size of the timed training step (10k needs ~19 GB at latent 128)");
   app.add_flag("--skip-training", skip_training, "forward timings only");
+  bool autograd_backward = false;
+  app.add_flag("--autograd-backward", autograd_backward,
+               "train GNS through LibTorch's autograd instead of its hand-written processor "
+               "backward (the before of gns_processor_step.h)");
+  bool pytorch_reference = false;
+  app.add_flag("--pytorch-reference", pytorch_reference,
+               "after the lattice training step, time the same step of the plain-PyTorch GNS "
+               "(tests/bench/gns_pytorch_reference.py, tuned: 1 torch thread, BLAS on --threads, "
+               "glibc's heap kept) on the same lattice graph, and print both rates, their ratio "
+               "and both peak memories");
+  std::vector<int> batch_sizes = {1};
+  app.add_option("--batch-size", batch_sizes,
+                 "frames per training step on --data (several: each timed, for the cost per "
+                 "frame)");
+  bool skip_forward = false;
+  app.add_flag("--skip-forward", skip_forward, "no forward timings (training figures only)");
   CLI11_PARSE(app, argc, argv);
   gnn::configure_runtime({threads, blas_threads});
 
@@ -125,7 +142,7 @@ int main(int argc, char** argv) {
   nlohmann::json forward = nlohmann::json::array();
   // Forward timings as spill-infer runs them (BLAS on one thread, chunks side by side).
   gnn::configure_runtime(gnn::inference_runtime(threads));
-  for (int64_t size : sizes) {
+  for (int64_t size : skip_forward ? std::vector<int64_t>{} : sizes) {
     auto g = lattice_graph(size, model->radius());
     torch::NoGradGuard no_grad;
     model->eval();
@@ -142,10 +159,15 @@ int main(int argc, char** argv) {
     std::cerr << "forward " << g.nodes() << " particles: " << forward_s << " s\n";
   }
   out["forward"] = forward;
-  gnn::configure_runtime({threads, blas_threads});  // training as spill-train runs it
+  // Training as spill-train runs it: its split unless --blas-threads is given.
+  const gnn::RuntimeSettings training_mix =
+      blas_threads > 0 ? gnn::RuntimeSettings{threads, blas_threads}
+                       : gnn::training_runtime(threads, model->trains_in_chunks());
+  gnn::configure_runtime(training_mix);
 
   if (!skip_training) {
     auto g = lattice_graph(train_particles, model->radius());
+    model->use_lean_backward(!autograd_backward);
     model->train();
     torch::optim::Adam adam(model->parameters(), torch::optim::AdamOptions(1e-4));
     auto target = torch::randn({g.nodes(), 3});
@@ -159,41 +181,101 @@ int main(int argc, char** argv) {
         {"particles", g.nodes()},
         {"edges", g.edges()},
         {"train_step_s", step_s},
+        {"torch_threads", training_mix.threads},
+        {"blas_threads", training_mix.blas_threads},
         {"compare_with",
          "/usr/bin/python3 tests/bench/gns_pytorch_reference.py "
          "--particles " +
              std::to_string(train_particles) + " --threads " + std::to_string(threads)}};
     std::cerr << "training step on the lattice: " << step_s << " s\n";
+    if (pytorch_reference) {
+      // Run after ours so that our peak memory is already on record (the reference runs in a
+      // process of its own and reports its own peak).
+      const double our_peak = gnn::peak_memory_mib();
+      const auto& c = model->gns_config();
+      const std::string command =
+          "GLIBC_TUNABLES=glibc.malloc.mmap_max=0:glibc.malloc.trim_threshold=4294967295 "
+          "OPENBLAS_NUM_THREADS=" +
+          std::to_string(threads) +
+          " /usr/bin/python3 " SPILL_SOURCE_DIR
+          "/tests/bench/gns_pytorch_reference.py"
+          " --threads 1 --particles " +
+          std::to_string(train_particles) + " --radius " + std::to_string(c.radius) + " --latent " +
+          std::to_string(c.latent) + " --layers " + std::to_string(c.layers) +
+          " --mlp-hidden-layers " + std::to_string(c.mlp_hidden_layers) + " --repeat " +
+          std::to_string(repeat);
+      std::cerr << "PyTorch reference: " << command << "\n";
+      std::string text;
+      if (FILE* pipe = popen(command.c_str(), "r")) {
+        char buffer[4096];
+        while (fgets(buffer, sizeof buffer, pipe)) text += buffer;
+        if (pclose(pipe) != 0) text.clear();
+      }
+      const auto reference = nlohmann::json::parse(text, nullptr, /*allow_exceptions=*/false);
+      if (reference.is_discarded() || !reference.contains("train_step_s")) {
+        std::cerr << "error: the PyTorch reference did not run (python3-torch installed?)\n";
+        return 1;
+      }
+      const double reference_s = reference["train_step_s"].get<double>();
+      out["pytorch_reference"] = reference;
+      out["training_vs_pytorch"] = {
+          {"ours_train_steps_per_s", 1.0 / step_s},
+          {"pytorch_train_steps_per_s", 1.0 / reference_s},
+          {"speedup", reference_s / step_s},
+          {"ours_peak_memory_mib", our_peak},
+          {"pytorch_peak_memory_mib", reference["peak_memory_mib"]},
+          {"same_graph", reference["edges"].get<int64_t>() == g.edges()},
+          {"our_thread_mix",
+           {{"torch_threads", training_mix.threads}, {"blas_threads", training_mix.blas_threads}}},
+          {"pytorch_thread_mix", {{"torch_threads", 1}, {"blas_threads", threads}}}};
+    }
   }
 
   if (!data_dir.empty()) {
-    train::TrainerOptions o;
-    o.config_file = training_config;
-    o.data_dir = data_dir;
-    o.out_dir = "/nonexistent-benchmark-run";
-    o.overrides = {
-        "/model_config=" + std::filesystem::relative(
-                               model_file, std::filesystem::path(training_config).parent_path())
-                               .string(),
-        "/model={}"};
-    train::Trainer trainer(o);
-    auto batch = trainer.sample_batch();
-    const double graph_s = time_median(repeat, [&] { batch = trainer.sample_batch(); });
-    torch::optim::Adam adam(trainer.simulator().model().parameters(),
-                            torch::optim::AdamOptions(1e-4));
-    const double step_s = time_median(repeat, [&] {
-      auto b = trainer.sample_batch();
-      auto loss = trainer.loss(b);
-      loss.backward();
-      adam.step();
-      adam.zero_grad();
-    });
-    out["dataset_training"] = {{"data", data_dir},
-                               {"nodes_per_graph", batch.graph.nodes()},
-                               {"edges_per_graph", batch.graph.edges()},
-                               {"graphs_per_s", 1.0 / graph_s},
-                               {"train_steps_per_s", 1.0 / step_s},
-                               {"train_step_s", step_s}};
+    nlohmann::json runs = nlohmann::json::array();
+    for (const int batch_size : batch_sizes) {
+      train::TrainerOptions o;
+      o.config_file = training_config;
+      o.data_dir = data_dir;
+      o.out_dir = "/nonexistent-benchmark-run";
+      o.overrides = {
+          "/model_config=" + std::filesystem::relative(
+                                 model_file, std::filesystem::path(training_config).parent_path())
+                                 .string(),
+          "/model={}", "/batch_size=" + std::to_string(batch_size)};
+      train::Trainer trainer(o);
+      if (auto* gns = dynamic_cast<gnn::GnsModel*>(&trainer.simulator().model()))
+        gns->use_lean_backward(!autograd_backward);
+      // spill-train's split unless --blas-threads is given.
+      const gnn::RuntimeSettings mix =
+          blas_threads > 0
+              ? gnn::RuntimeSettings{threads, blas_threads}
+              : gnn::training_runtime(threads, trainer.simulator().model().trains_in_chunks());
+      gnn::configure_runtime(mix);
+      auto batch = trainer.sample_batch();
+      const double graph_s = time_median(repeat, [&] { batch = trainer.sample_batch(); });
+      torch::optim::Adam adam(trainer.simulator().model().parameters(),
+                              torch::optim::AdamOptions(1e-4));
+      const double step_s = time_median(repeat, [&] {
+        auto b = trainer.sample_batch();
+        auto loss = trainer.loss(b);
+        loss.backward();
+        adam.step();
+        adam.zero_grad();
+      });
+      runs.push_back({{"batch_size", batch_size},
+                      {"nodes_per_step", batch.graph.nodes()},
+                      {"edges_per_step", batch.graph.edges()},
+                      {"batches_per_s", 1.0 / graph_s},
+                      {"train_steps_per_s", 1.0 / step_s},
+                      {"train_step_s", step_s},
+                      {"seconds_per_frame", step_s / batch_size},
+                      {"processor_backward", autograd_backward ? "autograd" : "lean"},
+                      {"torch_threads", mix.threads},
+                      {"blas_threads", mix.blas_threads}});
+      std::cerr << "batch " << batch_size << ": " << step_s << " s per step\n";
+    }
+    out["dataset_training"] = {{"data", data_dir}, {"runs", runs}};
   }
   out["peak_memory_mib"] = gnn::peak_memory_mib();
   std::cout << out.dump(2) << "\n";
