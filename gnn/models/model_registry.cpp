@@ -1,6 +1,7 @@
 // The one list of learned models: adding a model is its file pair, its #include and its line.
 
 #include "common/config_error.h"
+#include "gnn/models/constant_velocity_model.h"
 #include "gnn/models/dpi_model.h"
 #include "gnn/models/gns_model.h"
 
@@ -17,6 +18,7 @@ std::vector<ModelEntry> model_entries() {
   return {
       {"gns", &GnsModel::from_config},
       {"dpi", &DpiModel::from_config},
+      {"constant_velocity", &ConstantVelocityModel::from_config},
   };
 }
 

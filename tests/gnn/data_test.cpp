@@ -278,9 +278,9 @@ TEST(Configs, AnUnknownKeyIsAnErrorNamingFileAndKey) {
   EXPECT_THROW(gnn::make_model({{"model", "pagatnet"}}, "x.json"), common::ConfigError);
 }
 
-// DPI-Nets validates its config as GNS does: an unknown key, a wrong type and a value out of
-// range each name the file and the key.
-TEST(Configs, DpiBadKeysNameFileAndKey) {
+// DPI-Nets and the constant-velocity floor validate their configs as GNS does: an unknown key, a
+// wrong type and a value out of range each name the file and the key.
+TEST(Configs, DpiAndConstantVelocityBadKeysNameFileAndKey) {
   const fs::path root = SPILL_SOURCE_DIR;
   struct Case {
     std::string file, pointer;
@@ -294,7 +294,9 @@ TEST(Configs, DpiBadKeysNameFileAndKey) {
       {"dpi.json", "/relation_width", 2.5, "expected an integer"},
       {"dpi.json", "/particle_width", -200, "expected >= 1"},
       {"dpi.json", "/radius", 0, "expected > 0"},
-      {"dpi.json", "/noise_std", "none", "expected a number"}};
+      {"dpi.json", "/noise_std", "none", "expected a number"},
+      {"constant_velocity.json", "/latent", 16, "unknown key"},
+      {"constant_velocity.json", "/noise_std", -1e-4, "expected >= 0"}};
   for (const auto& c : cases) {
     SCOPED_TRACE(c.file + ":" + c.pointer);
     const std::string file = (root / "configs/models" / c.file).string();

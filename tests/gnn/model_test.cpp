@@ -37,6 +37,7 @@ const std::string kDpiSmoke = std::string(SPILL_SOURCE_DIR) + "/configs/training
 const nlohmann::json kSmallDpi = {{"model", "dpi"},         {"particle_width", 24},
                                   {"relation_width", 32},   {"effect_width", 16},
                                   {"propagation_steps", 2}, {"encoder_hidden_layers", 1}};
+const nlohmann::json kConstantVelocity = {{"model", "constant_velocity"}};
 
 struct Tiny {
   fs::path dir;
@@ -416,4 +417,76 @@ TEST(DpiModel, TrainingOnTheTinyDatasetLossFallsTenfold) {
   EXPECT_LT(last, first / 10) << "first logged loss " << first << ", last " << last;
   EXPECT_TRUE(fs::exists(out / "last.pt"));
   EXPECT_NO_THROW(gnn::load_checkpoint((out / "last.pt").string(), std::string("dpi")));
+}
+
+// Zero physical acceleration (not a normalised zero: the tiny dataset's mean acceleration is
+// gravity and drag), so a rollout moves every fluid particle by its last displacement, frame
+// after frame; emitted particles enter on the recorded schedule and then keep their velocity.
+TEST(ConstantVelocity, RolloutKeepsEveryFluidVelocity) {
+  Tiny data("constant_rollout");
+  auto sim = data.simulator(kConstantVelocity);
+  EXPECT_TRUE(sim->model().parameters().empty());
+  auto frame = data.frame(10);
+  const auto normalised = sim->predict_normalised(frame);
+  EXPECT_GT(normalised.abs().max().item<double>(), 0.1);
+  EXPECT_LT(sim->denormalise_acceleration(normalised).abs().max().item<double>(), 1e-9);
+
+  const int64_t from = 5, frames = tiny::kFrames - 1 - from;
+  auto r = gnn::rollout(*sim, data.trajectory, from, frames, data.metadata.frame_dt);
+  for (int64_t k = 0; k <= frames; ++k)
+    EXPECT_TRUE(torch::equal(r.active[k], data.trajectory.active[from + k])) << "frame " << k;
+  // The first step continues the recorded velocity.
+  const auto& t = data.trajectory.position;
+  const auto start = data.trajectory.active[from - 1] & data.trajectory.active[from];
+  EXPECT_TRUE(torch::allclose((r.position[1] - r.position[0]).index({start}),
+                              (t[from] - t[from - 1]).index({start}), 0, 1e-6));
+  int64_t checked = 0;
+  for (int64_t k = 1; k < frames; ++k) {
+    const auto both = r.active[k - 1] & r.active[k] & r.active[k + 1];
+    const auto before = (r.position[k] - r.position[k - 1]).index({both});
+    const auto after = (r.position[k + 1] - r.position[k]).index({both});
+    EXPECT_TRUE(torch::allclose(after, before, 0, 2e-6))
+        << "frame " << k << ": " << (after - before).abs().max().item<float>();
+    checked += both.sum().item<int64_t>();
+  }
+  EXPECT_GT(checked, int64_t(frames - 1) * (tiny::kParticles - tiny::kEmitted));
+  // The emitted particles moved by themselves after entering.
+  const auto emitted = torch::arange(tiny::kParticles - tiny::kEmitted, tiny::kParticles);
+  const int64_t k = tiny::kEmitFrame - from;
+  EXPECT_FALSE(torch::equal(r.position[k + 2].index_select(0, emitted),
+                            r.position[k].index_select(0, emitted)));
+}
+
+TEST(ConstantVelocity, ReloadsFromACheckpoint) {
+  Tiny data("constant_checkpoint");
+  auto sim = data.simulator(kConstantVelocity);
+  const std::string file = (data.dir / "model.pt").string();
+  gnn::save_checkpoint(file, *sim, gnn::describe_data(data.metadata), {}, nullptr);
+  auto loaded = gnn::load_checkpoint(file, std::string("constant_velocity"));
+  EXPECT_EQ(loaded.simulator->model().name(), "constant_velocity");
+  EXPECT_EQ(loaded.simulator->model().config(), sim->model().config());
+  auto frame = data.frame(10);
+  EXPECT_TRUE(
+      torch::equal(sim->predict_normalised(frame), loaded.simulator->predict_normalised(frame)));
+  const int64_t frames = 6;
+  auto a = gnn::rollout(*sim, data.trajectory, 5, frames, data.metadata.frame_dt);
+  auto b = gnn::rollout(*loaded.simulator, data.trajectory, 5, frames, data.metadata.frame_dt);
+  EXPECT_TRUE(torch::equal(a.position, b.position));
+}
+
+// Nothing to train: a clear error before any output exists, not a LibTorch failure mid-run.
+TEST(ConstantVelocity, TrainingIsRefusedWithAClearError) {
+  Tiny data("constant_train");
+  const fs::path out = data.dir / "run";
+  try {
+    train::Trainer trainer(
+        options(data, out, 10, {"/model_config=../models/constant_velocity.json", "/model={}"}));
+    ADD_FAILURE() << "expected a ConfigError";
+  } catch (const common::ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("constant_velocity has no parameters to train"),
+              std::string::npos)
+        << e.what();
+    EXPECT_NE(std::string(e.what()).find("constant_velocity.json"), std::string::npos) << e.what();
+  }
+  EXPECT_FALSE(fs::exists(out));
 }
