@@ -110,6 +110,11 @@ Trainer::Trainer(TrainerOptions options) : options_(std::move(options)) {
         model, gnn::Normalisation::from_metadata(metadata_, model->noise_std()), metadata_.bounds);
     state_.training_config = config_.training_json;
   }
+  // A model without parameters (the constant-velocity floor) has nothing to learn: Adam would get
+  // no tensors and the loss no gradient to follow (backward() fails inside LibTorch).
+  if (simulator_->model().parameters().empty())
+    throw common::ConfigError(config_.model_file, "/model",
+                              simulator_->model().name() + " has no parameters to train");
   simulator_->to(options_.device);
   objective_ = gnn::make_objective(simulator_->model());
   optimizer_ = std::make_unique<torch::optim::Adam>(

@@ -28,6 +28,9 @@ constexpr int64_t kVelocityFeatures = 15;
 constexpr int64_t kMaterialFeatures = 2;
 constexpr int64_t kBoundFeatures = 6;
 constexpr int64_t kNodeFeatures = kVelocityFeatures + kMaterialFeatures + kBoundFeatures;
+// node_features begins with the 5 velocities, oldest first, 3 columns each (x, y, z); the newest
+// (x_t - x_(t-1), normalised) is columns kLastVelocityColumn .. kLastVelocityColumn + 2.
+constexpr int64_t kLastVelocityColumn = kVelocityFeatures - 3;
 constexpr int64_t kEdgeFeatures = 4;
 
 // Throws std::invalid_argument "WHERE: NAME: ..." when `t` is missing or its sizes (-1: any

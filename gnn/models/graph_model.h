@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "gnn/data/dataset.h"
+#include "gnn/data/normalisation.h"
 #include "gnn/graph/graph_input.h"
 
 namespace gnn {
@@ -59,6 +60,12 @@ class GraphModel : public torch::nn::Module {
   virtual bool trains_in_chunks() const { return false; }
   // The resolved config (defaults filled in), stored in checkpoints.
   virtual nlohmann::json config() const = 0;
+  // The statistics the graph's velocities were normalised with and the output acceleration is
+  // normalised with; LearnedSimulator passes its own when it takes the model (so also after a
+  // checkpoint is loaded). A model whose head is not a normalised acceleration (DPI-Nets
+  // predicts the next velocity, the constant-velocity floor zero acceleration) converts its
+  // output with them; the default ignores them.
+  virtual void set_normalisation(const Normalisation& /*normalisation*/) {}
 
   // The device of the model's parameters (where its inputs must be).
   torch::Device device() const {

@@ -10,7 +10,9 @@ namespace gnn {
 
 LearnedSimulator::LearnedSimulator(std::shared_ptr<GraphModel> model, Normalisation normalisation,
                                    Bounds bounds)
-    : model_(std::move(model)), normalisation_(std::move(normalisation)), bounds_(bounds) {}
+    : model_(std::move(model)), normalisation_(std::move(normalisation)), bounds_(bounds) {
+  model_->set_normalisation(normalisation_);
+}
 
 void check_frame_nodes(const FrameNodes& f, const std::string& where) {
   // CPU tensors, any layout (windows are slices of the recorded trajectory).

@@ -1,6 +1,8 @@
 // The one list of learned models: adding a model is its file pair, its #include and its line.
 
 #include "common/config_error.h"
+#include "gnn/models/constant_velocity_model.h"
+#include "gnn/models/dpi_model.h"
 #include "gnn/models/gns_model.h"
 
 namespace gnn {
@@ -15,6 +17,8 @@ struct ModelEntry {
 std::vector<ModelEntry> model_entries() {
   return {
       {"gns", &GnsModel::from_config},
+      {"dpi", &DpiModel::from_config},
+      {"constant_velocity", &ConstantVelocityModel::from_config},
   };
 }
 

@@ -278,6 +278,50 @@ TEST(Configs, AnUnknownKeyIsAnErrorNamingFileAndKey) {
   EXPECT_THROW(gnn::make_model({{"model", "pagatnet"}}, "x.json"), common::ConfigError);
 }
 
+// DPI-Nets and the constant-velocity floor validate their configs as GNS does: an unknown key, a
+// wrong type and a value out of range each name the file and the key.
+TEST(Configs, DpiAndConstantVelocityBadKeysNameFileAndKey) {
+  const fs::path root = SPILL_SOURCE_DIR;
+  struct Case {
+    std::string file, pointer;
+    nlohmann::json value;
+    std::string says;
+  };
+  const std::vector<Case> cases = {
+      {"dpi.json", "/propagation_stepz", 3, "unknown key"},
+      {"dpi.json", "/propagation_steps", "three", "expected an integer"},
+      {"dpi.json", "/propagation_steps", 0, "expected >= 1"},
+      {"dpi.json", "/relation_width", 2.5, "expected an integer"},
+      {"dpi.json", "/particle_width", -200, "expected >= 1"},
+      {"dpi.json", "/radius", 0, "expected > 0"},
+      {"dpi.json", "/noise_std", "none", "expected a number"},
+      {"constant_velocity.json", "/latent", 16, "unknown key"},
+      {"constant_velocity.json", "/noise_std", -1e-4, "expected >= 0"}};
+  for (const auto& c : cases) {
+    SCOPED_TRACE(c.file + ":" + c.pointer);
+    const std::string file = (root / "configs/models" / c.file).string();
+    auto j = nlohmann::json::parse(std::ifstream(file));
+    j[nlohmann::json::json_pointer(c.pointer)] = c.value;
+    try {
+      gnn::make_model(j, file);
+      ADD_FAILURE() << "accepted";
+    } catch (const common::ConfigError& e) {
+      EXPECT_EQ(e.file(), file);
+      EXPECT_EQ(e.pointer(), c.pointer);
+      EXPECT_NE(std::string(e.what()).find(c.says), std::string::npos) << e.what();
+    }
+  }
+  // Training-config overrides reach the model's keys with the model file named.
+  try {
+    train::load_training_config((root / "configs/training/dpi_smoke.json").string(),
+                                {"/model/effect_widht=8"});
+    ADD_FAILURE() << "accepted";
+  } catch (const common::ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("/effect_widht"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("dpi.json"), std::string::npos) << e.what();
+  }
+}
+
 TEST(Schedule, LearningRateDecaysFromMaxToMin) {
   train::TrainingConfig c;
   EXPECT_DOUBLE_EQ(train::learning_rate(c, 0), 1e-4);

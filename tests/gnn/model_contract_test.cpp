@@ -122,6 +122,98 @@ TEST(ModelContract, FusedInferenceLeavesTheBlasThreadsAloneAndAgreesEitherWay) {
   gnn::configure_runtime({1, before});
 }
 
+// Statistics for a model that converts its output with them (DPI-Nets): a
+// non-zero acceleration mean, so a normalised 0 is not a physical 0.
+gnn::Normalisation test_normalisation() {
+  return {torch::tensor({0.001f, -0.002f, 0.0f}), torch::full({3}, 0.01f),
+          torch::tensor({0.0f, 0.0f, -0.001f}), torch::full({3}, 0.002f)};
+}
+
+std::shared_ptr<gnn::GraphModel> small_dpi() {
+  auto model = gnn::make_model({{"model", "dpi"},
+                                {"particle_width", 16},
+                                {"relation_width", 24},
+                                {"effect_width", 12},
+                                {"propagation_steps", 2}},
+                               "test");
+  model->set_normalisation(test_normalisation());
+  return model;
+}
+
+// `n` nodes with random features and the given edges (senders, receivers).
+gnn::GraphInput graph_with_edges(int64_t n, const std::vector<int64_t>& senders,
+                                 const std::vector<int64_t>& receivers) {
+  gnn::GraphInput g;
+  g.node_features = torch::randn({n, gnn::kNodeFeatures});
+  g.node_type = torch::randint(0, 2, {n}, torch::kInt64);
+  const auto E = int64_t(senders.size());
+  g.edge_index = torch::stack({torch::tensor(senders, torch::kInt64).view({E}),
+                               torch::tensor(receivers, torch::kInt64).view({E})});
+  g.edge_features = torch::randn({E, gnn::kEdgeFeatures});
+  g.fluid = torch::ones({n}, torch::kBool);
+  return g;
+}
+
+// Shapes and latents for no edge, one edge and many (a radius graph on the fused CSR path), with
+// gradients flowing back in each case.
+TEST(DpiModel, OutputShapesForNoEdgeOneEdgeAndManyEdges) {
+  torch::manual_seed(21);
+  auto model = small_dpi();
+  const std::vector<std::pair<std::string, gnn::GraphInput>> graphs = {
+      {"no edge", graph_with_edges(5, {}, {})},
+      {"one edge", graph_with_edges(2, {0}, {1})},
+      {"many edges", random_graph(120, 0.3)}};
+  for (const auto& [label, g] : graphs) {
+    SCOPED_TRACE(label);
+    ASSERT_EQ(g.edges() == 0, label == "no edge");
+    gnn::ForwardOptions keep;
+    keep.keep_latents = true;
+    model->zero_grad();
+    const gnn::ModelOutput out = model->forward(g, keep);
+    EXPECT_EQ(out.acceleration.sizes().vec(), (std::vector<int64_t>{g.nodes(), 3}));
+    EXPECT_TRUE(torch::isfinite(out.acceleration).all().item<bool>());
+    ASSERT_EQ(out.node_latents.size(), 2u);
+    ASSERT_EQ(out.edge_latents.size(), 2u);
+    for (size_t k = 0; k < 2; ++k) {
+      EXPECT_EQ(out.node_latents[k].sizes().vec(), (std::vector<int64_t>{g.nodes(), 12}));
+      EXPECT_EQ(out.edge_latents[k].sizes().vec(), (std::vector<int64_t>{g.edges(), 12}));
+    }
+    out.acceleration.pow(2).sum().backward();
+    for (const auto& p : model->named_parameters())
+      EXPECT_TRUE(p.value().grad().defined()) << p.key();
+    // Inference gives the same acceleration.
+    torch::NoGradGuard no_grad;
+    EXPECT_TRUE(torch::allclose(out.acceleration, model->acceleration(g), 1e-5, 1e-6));
+  }
+}
+
+// Effects travel from sender to receiver only: with the single edge 0 -> 1, node 0 predicts what
+// it predicts alone, node 1 does not.
+TEST(DpiModel, AnEdgeInformsItsReceiverOnly) {
+  torch::manual_seed(22);
+  auto model = small_dpi();
+  torch::NoGradGuard no_grad;
+  const auto one = graph_with_edges(2, {0}, {1});
+  auto none = one;
+  none.edge_index = torch::zeros({2, 0}, torch::kInt64);
+  none.edge_features = torch::zeros({0, gnn::kEdgeFeatures});
+  const auto with_edge = model->acceleration(one), without = model->acceleration(none);
+  EXPECT_TRUE(torch::equal(with_edge[0], without[0]));
+  EXPECT_FALSE(torch::allclose(with_edge[1], without[1]));
+}
+
+// Without statistics the velocity cannot become an acceleration: a clear error, not garbage.
+TEST(DpiModel, WithoutNormalisationItIsAClearError) {
+  auto model = gnn::make_model(
+      {{"model", "dpi"}, {"particle_width", 8}, {"relation_width", 8}, {"effect_width", 8}},
+      "test");
+  expect_message<std::logic_error>([&] { model->acceleration(random_graph(10, 0.5)); },
+                                   {"dpi", "normalisation"});
+  auto g = random_graph(10, 0.5);
+  g.edge_features = torch::randn({g.edges(), 3});
+  expect_message([&] { small_dpi()->acceleration(g); }, {"dpi forward", "edge_features"});
+}
+
 TEST(TrainingObjective, AccelerationMseIsTheMaskedMeanSquareOverFluidRows) {
   torch::manual_seed(5);
   gnn::TrainingBatch batch;

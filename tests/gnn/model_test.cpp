@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <iostream>
 #include <sstream>
 #include <tuple>
 
@@ -13,6 +14,7 @@
 #include "gnn/eval/rollout.h"
 #include "gnn/graph/radius_graph.h"
 #include "gnn/graph/segment_ops.h"
+#include "gnn/models/dpi_model.h"
 #include "gnn/models/gns_model.h"
 #include "gnn/runtime/runtime.h"
 #include "gnn/training/checkpoint.h"
@@ -34,6 +36,11 @@ fs::path temp_dir(const std::string& name) {
 }
 
 const std::string kSmoke = std::string(SPILL_SOURCE_DIR) + "/configs/training/gns_smoke.json";
+const std::string kDpiSmoke = std::string(SPILL_SOURCE_DIR) + "/configs/training/dpi_smoke.json";
+const nlohmann::json kSmallDpi = {{"model", "dpi"},         {"particle_width", 24},
+                                  {"relation_width", 32},   {"effect_width", 16},
+                                  {"propagation_steps", 2}, {"encoder_hidden_layers", 1}};
+const nlohmann::json kConstantVelocity = {{"model", "constant_velocity"}};
 
 struct Tiny {
   fs::path dir;
@@ -45,9 +52,11 @@ struct Tiny {
     trajectory = gnn::read_split(dir.string(), "test", metadata)[0];
   }
   ~Tiny() { fs::remove_all(dir); }
-  std::unique_ptr<gnn::LearnedSimulator> simulator() const {
-    auto model = gnn::make_model(
-        {{"model", "gns"}, {"latent", 16}, {"layers", 2}, {"mlp_hidden_layers", 1}}, "test");
+  // A small GNS unless `config` names another model.
+  std::unique_ptr<gnn::LearnedSimulator> simulator(
+      const nlohmann::json& config = {
+          {"model", "gns"}, {"latent", 16}, {"layers", 2}, {"mlp_hidden_layers", 1}}) const {
+    auto model = gnn::make_model(config, "test");
     return std::make_unique<gnn::LearnedSimulator>(
         model, gnn::Normalisation::from_metadata(metadata, model->noise_std()), metadata.bounds);
   }
@@ -74,9 +83,10 @@ std::vector<std::string> log_rows_without_timing(const fs::path& file) {
 }
 
 train::TrainerOptions options(const Tiny& data, const fs::path& out, int steps,
-                              std::vector<std::string> extra = {}) {
+                              std::vector<std::string> extra = {},
+                              const std::string& config = kSmoke) {
   train::TrainerOptions o;
-  o.config_file = kSmoke;
+  o.config_file = config;
   o.data_dir = data.dir.string();
   o.out_dir = out.string();
   o.overrides = {"/steps=" + std::to_string(steps)};
@@ -411,4 +421,132 @@ TEST(InProcess, RecorderTensorsTrainAndRollOutWithoutAFile) {
   EXPECT_TRUE(model->parameters()[0].grad().defined());
   auto r = gnn::rollout(simulator, t, 5, 5, m.frame_dt);
   EXPECT_TRUE(torch::equal(r.active[5], t.active[10]));
+}
+
+// The training loss of the first and of the last log.csv row.
+std::pair<double, double> first_and_last_loss(const fs::path& log) {
+  auto rows = log_rows_without_timing(log);
+  EXPECT_GE(rows.size(), 3u);
+  if (rows.size() < 3) return {0, 0};
+  auto loss = [](const std::string& row) { return std::stod(row.substr(row.find(',') + 1)); };
+  return {loss(rows[1]), loss(rows.back())};
+}
+
+TEST(DpiModel, CheckpointRoundTripGivesIdenticalOutputs) {
+  Tiny data("dpi_roundtrip");
+  auto sim = data.simulator(kSmallDpi);
+  auto frame = data.frame(10);
+  torch::NoGradGuard no_grad;
+  auto before = sim->predict_normalised(frame);
+  const std::string file = (data.dir / "model.pt").string();
+  gnn::save_checkpoint(file, *sim, gnn::describe_data(data.metadata), {}, nullptr);
+  auto loaded = gnn::load_checkpoint(file, std::string("dpi"));
+  EXPECT_EQ(loaded.simulator->model().config(), sim->model().config());
+  auto after = loaded.simulator->predict_normalised(frame);
+  EXPECT_TRUE(torch::equal(before, after)) << (before - after).abs().max().item<float>();
+  EXPECT_TRUE(torch::equal(sim->next_position(frame), loaded.simulator->next_position(frame)));
+}
+
+// The acceleration DPI-Nets reports is the one that takes each fluid particle's last velocity to
+// the velocity its decoder predicts: one Euler step moves a particle by exactly that velocity.
+TEST(DpiModel, TheAccelerationTakesTheLastVelocityToThePredictedOne) {
+  Tiny data("dpi_velocity");
+  auto sim = data.simulator(kSmallDpi);
+  auto frame = data.frame(10);
+  torch::NoGradGuard no_grad;
+  auto& model = dynamic_cast<gnn::DpiModel&>(sim->model());
+  const int64_t n = frame.history.size(0);
+  const auto u = model.next_velocity(sim->encode(frame)).slice(0, 0, n);
+  const auto& s = sim->normalisation();
+  const auto predicted_velocity = u * s.vel_std + s.vel_mean;  // m per frame
+  const auto last = frame.history.select(1, gnn::kWindow - 1);
+  const auto moved = sim->next_position(frame) - last;
+  EXPECT_TRUE(torch::allclose(moved, predicted_velocity, 0, 1e-6))
+      << (moved - predicted_velocity).abs().max().item<float>();
+}
+
+// The same fixture and schedule as the GNS test: the loss falls tenfold in 300 steps.
+TEST(DpiModel, TrainingOnTheTinyDatasetLossFallsTenfold) {
+  Tiny data("dpi_overfit");
+  const fs::path out = data.dir / "run";
+  train::Trainer trainer(options(data, out, 300, {"/model/noise_std=0"}, kDpiSmoke));
+  trainer.run();
+  EXPECT_EQ(trainer.simulator().model().name(), "dpi");
+  const auto [first, last] = first_and_last_loss(out / "log.csv");
+  std::cout << "[ measured ] dpi loss: first logged " << first << ", last " << last << "\n";
+  EXPECT_LT(last, first / 10) << "first logged loss " << first << ", last " << last;
+  EXPECT_TRUE(fs::exists(out / "last.pt"));
+  EXPECT_NO_THROW(gnn::load_checkpoint((out / "last.pt").string(), std::string("dpi")));
+}
+
+// Zero physical acceleration (not a normalised zero: the tiny dataset's mean acceleration is
+// gravity and drag), so a rollout moves every fluid particle by its last displacement, frame
+// after frame; emitted particles enter on the recorded schedule and then keep their velocity.
+TEST(ConstantVelocity, RolloutKeepsEveryFluidVelocity) {
+  Tiny data("constant_rollout");
+  auto sim = data.simulator(kConstantVelocity);
+  EXPECT_TRUE(sim->model().parameters().empty());
+  auto frame = data.frame(10);
+  const auto normalised = sim->predict_normalised(frame);
+  EXPECT_GT(normalised.abs().max().item<double>(), 0.1);
+  EXPECT_LT(sim->denormalise_acceleration(normalised).abs().max().item<double>(), 1e-9);
+
+  const int64_t from = 5, frames = tiny::kFrames - 1 - from;
+  auto r = gnn::rollout(*sim, data.trajectory, from, frames, data.metadata.frame_dt);
+  for (int64_t k = 0; k <= frames; ++k)
+    EXPECT_TRUE(torch::equal(r.active[k], data.trajectory.active[from + k])) << "frame " << k;
+  // The first step continues the recorded velocity.
+  const auto& t = data.trajectory.position;
+  const auto start = data.trajectory.active[from - 1] & data.trajectory.active[from];
+  EXPECT_TRUE(torch::allclose((r.position[1] - r.position[0]).index({start}),
+                              (t[from] - t[from - 1]).index({start}), 0, 1e-6));
+  int64_t checked = 0;
+  for (int64_t k = 1; k < frames; ++k) {
+    const auto both = r.active[k - 1] & r.active[k] & r.active[k + 1];
+    const auto before = (r.position[k] - r.position[k - 1]).index({both});
+    const auto after = (r.position[k + 1] - r.position[k]).index({both});
+    EXPECT_TRUE(torch::allclose(after, before, 0, 2e-6))
+        << "frame " << k << ": " << (after - before).abs().max().item<float>();
+    checked += both.sum().item<int64_t>();
+  }
+  EXPECT_GT(checked, int64_t(frames - 1) * (tiny::kParticles - tiny::kEmitted));
+  // The emitted particles moved by themselves after entering.
+  const auto emitted = torch::arange(tiny::kParticles - tiny::kEmitted, tiny::kParticles);
+  const int64_t k = tiny::kEmitFrame - from;
+  EXPECT_FALSE(torch::equal(r.position[k + 2].index_select(0, emitted),
+                            r.position[k].index_select(0, emitted)));
+}
+
+TEST(ConstantVelocity, ReloadsFromACheckpoint) {
+  Tiny data("constant_checkpoint");
+  auto sim = data.simulator(kConstantVelocity);
+  const std::string file = (data.dir / "model.pt").string();
+  gnn::save_checkpoint(file, *sim, gnn::describe_data(data.metadata), {}, nullptr);
+  auto loaded = gnn::load_checkpoint(file, std::string("constant_velocity"));
+  EXPECT_EQ(loaded.simulator->model().name(), "constant_velocity");
+  EXPECT_EQ(loaded.simulator->model().config(), sim->model().config());
+  auto frame = data.frame(10);
+  EXPECT_TRUE(
+      torch::equal(sim->predict_normalised(frame), loaded.simulator->predict_normalised(frame)));
+  const int64_t frames = 6;
+  auto a = gnn::rollout(*sim, data.trajectory, 5, frames, data.metadata.frame_dt);
+  auto b = gnn::rollout(*loaded.simulator, data.trajectory, 5, frames, data.metadata.frame_dt);
+  EXPECT_TRUE(torch::equal(a.position, b.position));
+}
+
+// Nothing to train: a clear error before any output exists, not a LibTorch failure mid-run.
+TEST(ConstantVelocity, TrainingIsRefusedWithAClearError) {
+  Tiny data("constant_train");
+  const fs::path out = data.dir / "run";
+  try {
+    train::Trainer trainer(
+        options(data, out, 10, {"/model_config=../models/constant_velocity.json", "/model={}"}));
+    ADD_FAILURE() << "expected a ConfigError";
+  } catch (const common::ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("constant_velocity has no parameters to train"),
+              std::string::npos)
+        << e.what();
+    EXPECT_NE(std::string(e.what()).find("constant_velocity.json"), std::string::npos) << e.what();
+  }
+  EXPECT_FALSE(fs::exists(out));
 }

@@ -1,0 +1,55 @@
+#pragma once
+// The constant-velocity floor of MODELS.md: every fluid particle keeps its last velocity (zero
+// acceleration), so a rollout advances each position by its last displacement. Every learned
+// model must beat it. It has no parameters: it is never trained (spill-train refuses it), only
+// checkpointed, rolled out and evaluated like the learned models.
+//
+// The output is the normalised acceleration that stands for zero physical acceleration:
+// (0 - acc_mean) / acc_std with the statistics LearnedSimulator hands over (set_normalisation),
+// not a normalised 0, which would be the mean acceleration of the training data (gravity, drag).
+
+#include "common/param_spec.h"
+#include "gnn/models/graph_model.h"
+
+namespace gnn {
+
+struct ConstantVelocityConfig {
+  std::string model = "constant_velocity";
+  // The shared input keys: the graph is still built (the interface is the same for every
+  // model), and the noise widens the normalisation as for the learned models.
+  double radius = 0.1;
+  double noise_std = 3e-4;
+
+  template <class V>
+  void describe(V& v) {
+    using common::param;
+    v.field("model", model, param("", "model name").one_of({"constant_velocity"}).require());
+    v.field("radius", radius, param("m", "connectivity radius of the graph").positive());
+    v.field(
+        "noise_std", noise_std,
+        param("m/frame", "std of the random-walk noise on the last input velocity").non_negative());
+  }
+};
+
+class ConstantVelocityModel : public GraphModel {
+ public:
+  explicit ConstantVelocityModel(const ConstantVelocityConfig& config) : config_(config) {}
+  // The registry's factory: validates `config` (errors name `file` and the key).
+  static std::shared_ptr<GraphModel> from_config(const nlohmann::json& config,
+                                                 const std::string& file);
+  std::string name() const override { return "constant_velocity"; }
+  double radius() const override { return config_.radius; }
+  double noise_std() const override { return config_.noise_std; }
+  nlohmann::json config() const override;
+  void set_normalisation(const Normalisation& normalisation) override;
+
+ protected:
+  // Throws std::logic_error when no normalisation was set.
+  ModelOutput run(const GraphInput& graph, const ForwardOptions& options) override;
+
+ private:
+  ConstantVelocityConfig config_;
+  torch::Tensor zero_acceleration_;  // [3] -acc_mean / acc_std
+};
+
+}  // namespace gnn
