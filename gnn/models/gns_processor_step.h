@@ -18,8 +18,8 @@
 // and its element-wise passes (bias, ReLU and its mask, LayerNorm), which are fused. With BLAS
 // on one thread the chunks run side by side on the LibTorch threads, each thread summing its
 // own weight gradients; with more BLAS threads they run in turn and each product uses them.
-// Measured on river_small (3,421 nodes, 59,990 edges, GNS-10-128, one run):
-// see docs/learning/training_speed.md.
+// Measured (README, "Speed on this CPU"): a GNS-10-128 step on a 4,096-particle lattice takes
+// 2.95 s against 6.57 s through autograd and 6.41 s in the tuned plain-PyTorch reference.
 //
 // The step is the one GnsModel::process computes (gns_model.h): edge update
 //   e' = LN(MLP_e(W_e e_ij + (W_r v)_receiver + (W_s v)_sender)), messages summed to receivers,
