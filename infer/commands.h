@@ -13,6 +13,7 @@ struct CommonOptions {
   std::string out_dir;
   std::ostream* log = nullptr;
   int threads = 2;
+  int blas_threads = 0;        // 0: the measured best split for the model (gnn::inference_runtime)
   std::string device = "cpu";  // where the model runs; the data pipeline stays on the CPU
 };
 

@@ -28,6 +28,17 @@ inline LoadedData load_data(const CommonOptions& o) {
   d.trajectories = gnn::read_split(o.data_dir, o.split, d.metadata);
   d.checkpoint.simulator->to(gnn::parse_device(o.device));
   d.checkpoint.simulator->model().eval();
+  // The thread split for this model, unless --blas-threads gave one.
+  const gnn::GraphModel& model = d.checkpoint.simulator->model();
+  const gnn::RuntimeSettings mix =
+      o.blas_threads > 0 ? gnn::RuntimeSettings{o.threads, o.blas_threads}
+                         : gnn::inference_runtime(o.threads, model.infers_in_chunks());
+  gnn::configure_runtime(mix);
+  if (o.log)
+    *o.log << "threads: " << mix.threads << " LibTorch, " << mix.blas_threads << " BLAS"
+           << (o.blas_threads > 0 ? " (as asked)"
+                                  : " (the measured best split for " + model.name() + ")")
+           << "\n";
   return d;
 }
 

@@ -25,7 +25,13 @@ void add_common(CLI::App* c, infer::CommonOptions& o) {
   c->add_option("--split", o.split, "split to run on")
       ->check(CLI::IsMember({"train", "valid", "test"}));
   c->add_option("--out", o.out_dir, "output folder")->required();
-  c->add_option("--threads", o.threads, "LibTorch, OpenMP and BLAS threads")
+  c->add_option("--threads", o.threads,
+                "cores to use; the LibTorch/BLAS split is chosen for the model (see "
+                "inference_runtime in gnn/runtime/runtime.h) unless --blas-threads is given")
+      ->check(CLI::PositiveNumber);
+  c->add_option("--blas-threads", o.blas_threads,
+                "OpenBLAS threads, with --threads LibTorch threads (default: the measured best "
+                "split for the model)")
       ->check(CLI::PositiveNumber);
   c->add_option("--device", o.device, "where the model runs: cpu (default) or cuda[:N]");
 }

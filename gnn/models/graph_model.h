@@ -58,6 +58,8 @@ class GraphModel : public torch::nn::Module {
   // Whether training runs the model's heavy products in row chunks side by side (then it wants
   // BLAS on one thread, see training_runtime in gnn/runtime/runtime.h).
   virtual bool trains_in_chunks() const { return false; }
+  // Likewise for inference without autograd (see inference_runtime).
+  virtual bool infers_in_chunks() const { return false; }
   // The resolved config (defaults filled in), stored in checkpoints.
   virtual nlohmann::json config() const = 0;
   // The statistics the graph's velocities were normalised with and the output acceleration is

@@ -19,10 +19,17 @@ struct RuntimeSettings {
   int blas_threads = 0;  // OpenBLAS threads; 0 = the same as `threads`
 };
 
-// Inference (spill-infer) runs the model's matrix products in row chunks side by side on the
-// LibTorch threads, each product on one BLAS thread: the settings for that.
-inline RuntimeSettings inference_runtime(int threads) {
-  return {threads, 1};
+// Inference's thread mix on `threads` cores (spill-infer), by measurement (spill-infer eval on
+// river_small, 8 frames, wall seconds per frame, 2 cores, runs alternating):
+//  - a model whose inference runs its products in row chunks side by side (GNS-10-128) wants
+//    the chunks on the LibTorch threads and BLAS on one: 2 + 1 threads 0.57 / 0.60 s, 1 + 2
+//    0.89 / 0.94 s, 2 + 2 3.05 s (the chunks' threads and BLAS's fight over the cores);
+//  - a model run as whole-tensor products (DPI-Nets 200/300, one op after another) gets every
+//    core in both pools: 2 + 2 threads 0.36 / 0.45 / 0.47 s, 1 + 2 0.47 / 0.50 / 0.45 s, 2 + 1
+//    0.44 / 0.48 / 0.48 s.
+inline RuntimeSettings inference_runtime(int threads, bool infers_in_chunks = true) {
+  if (infers_in_chunks) return {threads, 1};
+  return {threads, threads};
 }
 
 // Training's thread mix on `threads` cores, by measurement (river_small, GNS-10-128, 3,421
