@@ -191,8 +191,8 @@ MlpSaved mlp_forward(const variable_list& in, const InputLayout& lo, bool edge, 
 }
 
 // Backward of mlp_forward in chunks. gy(c0, c1, out) writes the output's gradient for the rows
-// into out; first(c0, c1, gz, thread) receives the gradient of the first Linear's output (after
-// its bias, before its ReLU's mask is applied it is masked here) and handles the first layer.
+// into out; first(c0, c1, g, thread) receives the gradient with respect to the first Linear's
+// output (ReLU mask applied, bias gradient already summed) and handles that layer's inputs.
 template <class OutputGradient, class First>
 void mlp_backward(const variable_list& in, const InputLayout& lo, bool edge, int64_t rows,
                   const MlpSaved& saved, GradientSums& sums, const OutputGradient& gy,
