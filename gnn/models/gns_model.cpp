@@ -7,7 +7,7 @@
 #include "common/config_visitors.h"
 #include "gnn/graph/segment_ops.h"
 #include "gnn/models/gns_processor_step.h"
-#include "gnn/runtime/runtime.h"
+#include "gnn/models/row_chunks.h"
 
 namespace gnn {
 
@@ -119,12 +119,6 @@ GnsModel::Latents GnsModel::process(Latents x, const GraphInput& g,
 
 namespace {
 
-// rows x width, in place: x = max(x + bias, 0).
-void add_bias_relu(float* x, const float* bias, int64_t rows, int64_t width) {
-  for (int64_t r = 0; r < rows; ++r, x += width)
-    for (int64_t c = 0; c < width; ++c) x[c] = std::max(x[c] + bias[c], 0.0f);
-}
-
 // out = LayerNorm(x + bias) row by row, in one pass over x (no autograd).
 // With `accumulate` the result is added to `out` (a residual), otherwise written to it.
 void add_bias_layer_norm(const float* x, const float* bias, const float* gamma, const float* beta,
@@ -152,8 +146,6 @@ void add_bias_layer_norm(const float* x, const float* bias, const float* gamma, 
         out[c] = (x[c] + bias[c] - mean) * inv * gamma[c] + beta[c];
   }
 }
-
-constexpr int64_t kChunk = 1024;
 
 // out[r] = a[ia[r]] + b[ib[r]] for rows of `width` floats: both gathers and their sum in one pass.
 void gather_pair_sum(const float* a, const float* b, const int64_t* ia, const int64_t* ib,
@@ -185,25 +177,13 @@ void finish_mlp_chunk(MlpImpl& mlp, torch::Tensor x, torch::Tensor y, float* out
   }
 }
 
-// Runs body(first, last) over chunks [0, chunks): side by side on the LibTorch threads when BLAS
-// is single-threaded (the runtime's inference setting), else on this thread, each product then
-// using BLAS's own threads (products issued from several threads into a multi-threaded BLAS
-// would fight over the cores).
-template <class Body>
-void for_chunks(int64_t chunks, const Body& body) {
-  if (blas_threads() <= 1)
-    at::parallel_for(0, chunks, 1, body);
-  else
-    body(int64_t(0), chunks);
-}
-
 }  // namespace
 
 torch::Tensor GnsModel::rows_times_transposed(const torch::Tensor& x_in, const torch::Tensor& w) {
   auto x = x_in.contiguous();
   auto out = torch::empty({x.size(0), w.size(0)}, x.options());
   const int64_t rows = x.size(0);
-  for_chunks((rows + kChunk - 1) / kChunk, [&](int64_t first, int64_t last) {
+  for_chunks(chunk_count(rows), [&](int64_t first, int64_t last, int) {
     torch::NoGradGuard no_grad;
     for (int64_t c = first; c < last; ++c) {
       auto o = out.slice(0, c * kChunk, std::min(rows, (c + 1) * kChunk));
@@ -217,7 +197,7 @@ void GnsModel::node_update_in_chunks(size_t k, torch::Tensor& v, const torch::Te
   const int64_t L = config_.latent, n = v.size(0);
   Mlp& mlp = node_mlp_[k];
   auto agg = aggregated.contiguous();
-  for_chunks((n + kChunk - 1) / kChunk, [&](int64_t first, int64_t last) {
+  for_chunks(chunk_count(n), [&](int64_t first, int64_t last, int) {
     torch::NoGradGuard no_grad;
     auto a = torch::empty({kChunk, L}), b = torch::empty({kChunk, L});
     for (int64_t c = first; c < last; ++c) {
@@ -249,8 +229,7 @@ torch::Tensor GnsModel::edge_update_in_chunks(size_t k, const torch::Tensor& e,
   // runs nested ops serially) and BLAS on one thread (spill-infer's runtime setting), so the
   // cores never wait on each other's small operations. Matrix products write into per-thread
   // buffers; bias, ReLU and LayerNorm are fused into single passes.
-  const int64_t chunks = (E + kChunk - 1) / kChunk;
-  for_chunks(chunks, [&](int64_t first, int64_t last) {
+  for_chunks(chunk_count(E), [&](int64_t first, int64_t last, int) {
     torch::NoGradGuard no_grad;  // grad mode is per thread
     auto a = torch::empty({kChunk, L}), b = torch::empty({kChunk, L});
     for (int64_t c = first; c < last; ++c) {

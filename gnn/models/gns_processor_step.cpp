@@ -5,15 +5,13 @@
 #include <utility>
 #include <vector>
 
-#include "gnn/runtime/runtime.h"
+#include "gnn/models/row_chunks.h"
 
 namespace gnn {
 namespace {
 
 using torch::autograd::AutogradContext;
 using torch::autograd::variable_list;
-
-constexpr int64_t kChunk = 1024;  // rows per chunk: one chunk's activations stay in L2
 
 // Where each tensor sits in the step's flat input list, for MLPs of `m` Linear layers:
 // v, e, W_rs, edge MLP (W_0..W_m-1, b_0..b_m-1, gamma, beta), W_a, node MLP (likewise).
@@ -27,28 +25,6 @@ struct InputLayout {
   int64_t aggregate() const { return 5 + 2 * m; }
   int64_t count() const { return 8 + 4 * m; }
 };
-
-// Runs body(first, last, thread) over the chunks [0, chunks): side by side on the LibTorch
-// threads when BLAS is single-threaded, else on this thread (thread 0) with BLAS's own threads.
-template <class Body>
-void for_chunks(int64_t chunks, const Body& body) {
-  if (blas_threads() <= 1 && at::get_num_threads() > 1)
-    at::parallel_for(0, chunks, 1,
-                     [&](int64_t first, int64_t last) { body(first, last, at::get_thread_num()); });
-  else
-    body(int64_t(0), chunks, 0);
-}
-
-int64_t chunk_count(int64_t rows) {
-  return (rows + kChunk - 1) / kChunk;
-}
-
-// x = max(x + bias, 0) over rows of `width`.
-void add_bias_relu(float* x, const float* bias, int64_t rows, int64_t width) {
-  for (int64_t r = 0; r < rows; ++r, x += width)
-#pragma omp simd
-    for (int64_t c = 0; c < width; ++c) x[c] = std::max(x[c] + bias[c], 0.0f);
-}
 
 // LayerNorm of z + bias per row: z becomes the normalised values, rstd[r] 1/std, y the output.
 void add_bias_layer_norm(float* z, const float* bias, const float* gamma, const float* beta,

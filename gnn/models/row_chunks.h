@@ -1,0 +1,41 @@
+#pragma once
+// Row chunks for the fused CPU passes of GNS (inference in gns_model.cpp, training in
+// gns_processor_step.cpp): an MLP's intermediates for one chunk of rows (kChunk x latent
+// floats) stay in the core's L2 cache between its matrix products and its element-wise passes.
+
+#include <torch/torch.h>
+
+#include <algorithm>
+#include <cstdint>
+
+#include "gnn/runtime/runtime.h"
+
+namespace gnn {
+
+constexpr int64_t kChunk = 1024;  // rows per chunk
+
+inline int64_t chunk_count(int64_t rows) {
+  return (rows + kChunk - 1) / kChunk;
+}
+
+// Runs body(first, last, thread) over the chunks [0, chunks): side by side on the LibTorch
+// threads when BLAS is single-threaded, else on this thread (thread 0), each product then using
+// BLAS's own threads (products issued from several threads into a multi-threaded BLAS would
+// fight over the cores).
+template <class Body>
+void for_chunks(int64_t chunks, const Body& body) {
+  if (blas_threads() <= 1 && at::get_num_threads() > 1)
+    at::parallel_for(0, chunks, 1,
+                     [&](int64_t first, int64_t last) { body(first, last, at::get_thread_num()); });
+  else
+    body(int64_t(0), chunks, 0);
+}
+
+// rows x width, in place: x = max(x + bias, 0).
+inline void add_bias_relu(float* x, const float* bias, int64_t rows, int64_t width) {
+  for (int64_t r = 0; r < rows; ++r, x += width)
+#pragma omp simd
+    for (int64_t c = 0; c < width; ++c) x[c] = std::max(x[c] + bias[c], 0.0f);
+}
+
+}  // namespace gnn
