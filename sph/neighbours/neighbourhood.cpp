@@ -1,5 +1,7 @@
 #include "sph/neighbours/neighbourhood.h"
 
+#include <omp.h>
+
 #include <cmath>
 #include <vector>
 
@@ -26,24 +28,16 @@ void ParticleNeighbourhood::update(FluidParticles& fluid, const BoundaryParticle
 
 namespace {
 
-// One thread's contiguous copies of a particle's pair offsets and kernel terms.
-struct PairScratch {
-  std::vector<Real> dx, dy, dz, w, g;
-  void fit(size_t m) {
-    if (dx.size() >= m) return;
-    for (auto* v : {&dx, &dy, &dz, &w, &g}) v->resize(m);
-  }
-};
-
 // Kernel values and volume-weighted gradients of the pairs [begin, end) of particle i (at xi),
 // whose neighbours are at x with volumes `volume`. The offsets are first gathered into
 // contiguous arrays so that the kernel itself (a square root, a division and a few polynomials
 // per pair) runs as SIMD over the pairs; evaluated pair by pair it stalled on the division's
-// latency. Adds sum_j V_j W_ij to `density` and sum_j V_j grad W_ij to `gradient_sum`.
+// latency. Adds sum_j V_j W_ij to `density` and, when given, sum_j V_j grad W_ij to
+// `gradient_sum`.
 template <class Kernel>
 void evaluate_pairs(const Kernel& kernel, const Vec3& xi, const Vec3* x, const Real* volume,
                     const Index* neighbours, Index begin, Index end, PairTable& table,
-                    PairScratch& s, Real& density, Vec3& gradient_sum) {
+                    PairScratch& s, Real& density, Vec3* gradient_sum) {
   const size_t m = size_t(end - begin);
   s.fit(m);
   Real* dx = s.dx.data();
@@ -68,7 +62,7 @@ void evaluate_pairs(const Kernel& kernel, const Vec3& xi, const Vec3* x, const R
     const Real scale = vj * g[t];
     table.value[k] = w[t];
     table.gradient[k] = Vec3(scale * dx[t], scale * dy[t], scale * dz[t]);
-    gradient_sum += table.gradient[k];
+    if (gradient_sum) *gradient_sum += table.gradient[k];
     density += vj * w[t];
   }
 }
@@ -89,19 +83,20 @@ void ParticleNeighbourhood::update_pair_kernels(FluidParticles& fluid,
     const Real* volume = fluid.rest_volume.data();
     PairTable& ff = this->fluid;
     PairTable& fb = this->boundary;
+    scratch_.resize(size_t(omp_get_max_threads()));
 #pragma omp parallel
     {
-      PairScratch scratch;
+      PairScratch& scratch = scratch_[size_t(omp_get_thread_num())];
 #pragma omp for schedule(dynamic, 64)
       for (long li = 0; li < long(n); ++li) {
         const Index i = Index(li);
         Real density = volume[i] * w_zero_;
-        Vec3 fluid_gradient_sum = Vec3::Zero(), boundary_sum = Vec3::Zero();
+        Vec3 boundary_sum = Vec3::Zero();
         evaluate_pairs(w, x[i], x, volume, ff.lists.indices.data(), ff.lists.offsets[i],
-                       ff.lists.offsets[i + 1], ff, scratch, density, fluid_gradient_sum);
+                       ff.lists.offsets[i + 1], ff, scratch, density, nullptr);
         evaluate_pairs(w, x[i], boundary.position.data(), boundary_volume_.data(),
                        fb.lists.indices.data(), fb.lists.offsets[i], fb.lists.offsets[i + 1], fb,
-                       scratch, density, boundary_sum);
+                       scratch, density, &boundary_sum);
         boundary_gradient_sum[i] = boundary_sum;
         fluid.density[i] = density;
       }

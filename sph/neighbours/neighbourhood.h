@@ -25,6 +25,16 @@ struct PairTable {
   }
 };
 
+// One thread's contiguous copies of a particle's pair offsets and kernel terms, which
+// update_pair_kernels evaluates as SIMD.
+struct PairScratch {
+  std::vector<Real> dx, dy, dz, w, g;
+  void fit(size_t m) {
+    if (dx.size() >= m) return;
+    for (auto* v : {&dx, &dy, &dz, &w, &g}) v->resize(m);
+  }
+};
+
 class ParticleNeighbourhood {
  public:
   ParticleNeighbourhood(const Aabb& domain, KernelKind kernel, Real support_radius,
@@ -59,6 +69,7 @@ class ParticleNeighbourhood {
   Real support_radius_;
   Real w_zero_;
   std::vector<Real> boundary_volume_;  // copy of the static boundary's volumes
+  std::vector<PairScratch> scratch_;   // per thread, kept between calls: no allocation per pass
   NeighbourGrid fluid_grid_;
   NeighbourGrid boundary_grid_;
 };
