@@ -93,18 +93,13 @@ class GradientSums {
   GradientSums(const variable_list& inputs, std::vector<int64_t> slots)
       : inputs_(inputs), slots_(std::move(slots)), per_thread_(size_t(at::get_num_threads())) {}
   // The sum for input `slot` on `thread`, zero-initialised on first use.
-  float* at(int thread, int64_t slot) {
+  torch::Tensor tensor(int thread, int64_t slot) {
     auto& sums = per_thread_[size_t(thread)];
     if (sums.empty())
       for (int64_t s : slots_) sums.push_back(torch::zeros_like(inputs_[size_t(s)]));
-    const auto it = std::find(slots_.begin(), slots_.end(), slot);
-    return sums[size_t(it - slots_.begin())].data_ptr<float>();
+    return sums[size_t(std::find(slots_.begin(), slots_.end(), slot) - slots_.begin())];
   }
-  torch::Tensor tensor(int thread, int64_t slot) {
-    at(thread, slot);
-    const auto it = std::find(slots_.begin(), slots_.end(), slot);
-    return per_thread_[size_t(thread)][size_t(it - slots_.begin())];
-  }
+  float* at(int thread, int64_t slot) { return tensor(thread, slot).data_ptr<float>(); }
   // Writes the totals into grad[slot].
   void write(variable_list& grad) const {
     for (size_t k = 0; k < slots_.size(); ++k) {
