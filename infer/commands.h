@@ -3,6 +3,7 @@
 
 #include <ostream>
 #include <string>
+#include <vector>
 
 namespace infer {
 
@@ -31,11 +32,31 @@ struct EvalOptions {
   int frames = 0;  // 0 = to the end of each recording
 };
 
+// Several models (checkpoints and, on request, the built-in constant-velocity floor) on the same
+// trajectories.
+struct CompareOptions {
+  std::vector<std::string> checkpoints;
+  bool constant_velocity = false;
+  std::string data_dir;
+  std::string split = "test";
+  std::string out_dir;
+  int from = 5;
+  int frames = 0;  // 0 = to the end of each recording
+  int threads = 2;
+  int blas_threads = 0;  // 0: the measured best split for each model
+  std::string device = "cpu";
+  std::ostream* log = nullptr;
+};
+
 // Predicted trajectory in the data contract (OUT/rollout.h5, OUT/metadata.json), side-by-side
 // top views (OUT/frames/), and timing against the SPH (OUT/timing.json).
 void run_rollout(const RolloutOptions& options);
 
 // Accuracy and speed over every trajectory of a split: OUT/eval.json and OUT/error_vs_horizon.svg.
 void run_eval(const EvalOptions& options);
+
+// OUT/comparison.json, OUT/comparison.md and OUT/comparison.png (rows: the simulator, then each
+// model; columns: six moments of the first trajectory).
+void run_compare(const CompareOptions& options);
 
 }  // namespace infer

@@ -12,6 +12,7 @@
 #include "gnn/eval/rollout.h"
 #include "infer/commands.h"
 #include "infer/loaded_data.h"
+#include "infer/trajectory_scores.h"
 
 namespace infer {
 namespace fs = std::filesystem;
@@ -20,55 +21,8 @@ namespace {
 
 const std::vector<int64_t> kHorizons = {1, 5, 10, 20, 50};
 
-struct TrajectoryScores {
-  double one_step_mse = 0;
-  std::vector<double> mse, mmd, ke_error, iou;  // per rollout frame 1..F
-  double wall_s_per_frame = 0, sph_seconds_per_frame = 0;
-};
-
-// Velocities (m/s) between frames k-1 and k of particles active in both.
-torch::Tensor frame_velocity(const torch::Tensor& position, const torch::Tensor& active, int64_t k,
-                             double dt, torch::Tensor& both) {
-  both = active[k] & active[k - 1];
-  return (position[k] - position[k - 1]) / dt;
-}
-
-TrajectoryScores score(gnn::LearnedSimulator& sim, const gnn::Trajectory& t,
-                       const gnn::DatasetMetadata& m, int64_t from, int64_t frames) {
-  TrajectoryScores s;
-  std::vector<int64_t> one_step_frames;
-  const int64_t first = gnn::kWindow - 1, last = t.frames() - 2;
-  const int64_t stride = std::max<int64_t>(1, (last - first + 1) / 20);
-  for (int64_t f = first; f <= last; f += stride) one_step_frames.push_back(f);
-  s.one_step_mse = gnn::one_step_position_mse(sim, t, one_step_frames, m.frame_dt);
-
-  auto r = gnn::rollout(sim, t, from, frames, m.frame_dt);
-  auto truth = t.position.slice(0, from, from + frames + 1);
-  auto truth_active = t.active.slice(0, from, from + frames + 1);
-  const double cell = 2 * m.particle_radius;
-  const auto oil = t.particle_type == gnn::kOil;
-  for (int64_t k = 1; k <= frames; ++k) {
-    auto active = r.active[k] & truth_active[k];
-    s.mse.push_back(gnn::position_mse(r.position[k], truth[k], active));
-    s.mmd.push_back(gnn::mmd_rbf(r.position[k].index({active}), truth[k].index({active}),
-                                 m.connectivity_radius));
-    torch::Tensor both_p, both_t;
-    auto vp = frame_velocity(r.position, r.active, k, m.frame_dt, both_p);
-    auto vt = frame_velocity(truth, truth_active, k, m.frame_dt, both_t);
-    const double ke_p = gnn::mean_kinetic_energy(vp, both_p & both_t);
-    const double ke_t = gnn::mean_kinetic_energy(vt, both_p & both_t);
-    s.ke_error.push_back(ke_t > 0 ? std::abs(ke_p - ke_t) / ke_t : 0.0);
-    s.iou.push_back(gnn::top_view_iou(r.position[k].index({active & oil}).slice(1, 0, 2),
-                                      truth[k].index({active & oil}).slice(1, 0, 2), cell));
-  }
-  s.wall_s_per_frame =
-      std::accumulate(r.frame_seconds.begin(), r.frame_seconds.end(), 0.0) / double(frames);
-  s.sph_seconds_per_frame = t.sph_seconds_per_frame;
-  return s;
-}
-
-double mean(const std::vector<double>& v) {
-  return v.empty() ? 0.0 : std::accumulate(v.begin(), v.end(), 0.0) / double(v.size());
+nlohmann::json optional_json(const std::optional<double>& v) {
+  return v ? nlohmann::json(*v) : nlohmann::json(nullptr);
 }
 
 // Per horizon (and "all" = mean over every rollout frame), averaged over trajectories that reach
@@ -114,15 +68,21 @@ void run_eval(const EvalOptions& o) {
       throw common::InputError("--from " + std::to_string(o.from) + ": " + t.source + " has " +
                                std::to_string(t.frames()) + " frames");
     const int64_t frames = o.frames > 0 ? std::min<int64_t>(o.frames, available) : available;
-    scores.push_back(score(*d.checkpoint.simulator, t, d.metadata, o.from, frames));
+    const auto scene = spill_scene_of(t, o.common.log);
+    scores.push_back(
+        score_rollout(*d.checkpoint.simulator, t, d.metadata, scene.get(), o.from, frames));
     const auto& s = scores.back();
-    per_trajectory.push_back({{"source", t.source},
-                              {"frames", frames},
-                              {"one_step_mse", s.one_step_mse},
-                              {"rollout_mse_all", mean(s.mse)},
-                              {"rollout_mse_last", s.mse.back()},
-                              {"oil_iou_mean", mean(s.iou)},
-                              {"wall_s_per_frame", s.wall_s_per_frame}});
+    per_trajectory.push_back(
+        {{"source", t.source},
+         {"frames", frames},
+         {"one_step_mse", s.one_step_mse},
+         {"rollout_mse_all", mean(s.mse)},
+         {"rollout_mse_last", s.mse.back()},
+         {"oil_iou_mean", mean(s.iou)},
+         {"slick_area_error", optional_json(slick_area_error(s))},
+         {"front_distance_error_m", optional_json(front_distance_error(s))},
+         {"bank_contact_time_error_s", optional_json(bank_contact_time_error(s))},
+         {"wall_s_per_frame", s.wall_s_per_frame}});
     if (progress) progress->update(int64_t(k + 1), t.source);
   }
   if (progress) progress->finish("");
@@ -146,7 +106,9 @@ void run_eval(const EvalOptions& o) {
        "frame); mmd: squared maximum mean discrepancy of the fluid clouds (Gaussian kernel, "
        "bandwidth = connectivity radius); kinetic_energy_error: |KE_pred - KE_true| / KE_true of "
        "the mean kinetic energy per unit mass; oil_iou: intersection over union of top-view oil "
-       "masks on cells of one particle diameter"},
+       "masks on cells of one particle diameter, oil being a particle whose oil fraction "
+       "(recorded, or "
+       "predicted by the model) is at least 1/2 at that frame"},
       {"one_step_mse", mean(one_step)},
       {"rollout_mse", by_horizon(scores, &TrajectoryScores::mse)},
       {"mmd", by_horizon(scores, &TrajectoryScores::mmd)},

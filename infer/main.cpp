@@ -2,6 +2,8 @@
 //   spill-infer rollout --checkpoint C --data DIR --split test --trajectory K --from T0
 //                       --frames F --out OUT
 //   spill-infer eval    --checkpoint C --data DIR --split test --out OUT
+//   spill-infer compare --checkpoints A B ... [--constant-velocity] --data DIR --split test
+//                       --out OUT [--from T0] [--frames F]
 #include <CLI/CLI.hpp>
 #include <iostream>
 
@@ -59,12 +61,40 @@ int main(int argc, char** argv) {
       ->check(CLI::NonNegativeNumber);
   e->add_option("--frames", eval.frames, "frames per rollout (default: to the end)")
       ->check(CLI::PositiveNumber);
+  infer::CompareOptions compare;
+  auto* c = app.add_subcommand(
+      "compare", "several models (and the constant-velocity floor) on the same trajectories");
+  c->add_option("--checkpoints", compare.checkpoints, "checkpoints (*.pt) written by spill-train")
+      ->check(CLI::ExistingFile);
+  c->add_flag("--constant-velocity", compare.constant_velocity,
+              "add the constant-velocity floor (every particle keeps its last velocity)");
+  c->add_option("--data", compare.data_dir, "dataset folder (metadata.json and <split>.h5)")
+      ->required()
+      ->check(CLI::ExistingDirectory);
+  c->add_option("--split", compare.split, "split to run on")
+      ->check(CLI::IsMember({"train", "valid", "test"}));
+  c->add_option("--out", compare.out_dir, "output folder")->required();
+  c->add_option("--from", compare.from, "recorded frame each rollout starts from")
+      ->check(CLI::NonNegativeNumber);
+  c->add_option("--frames", compare.frames, "frames per rollout (default: to the end)")
+      ->check(CLI::PositiveNumber);
+  c->add_option("--threads", compare.threads,
+                "cores to use; each model gets its measured best LibTorch/BLAS split unless "
+                "--blas-threads is given")
+      ->check(CLI::PositiveNumber);
+  c->add_option("--blas-threads", compare.blas_threads, "OpenBLAS threads for every model")
+      ->check(CLI::PositiveNumber);
+  c->add_option("--device", compare.device, "where the models run: cpu (default) or cuda[:N]");
   if (const auto stop = common::parse_command_line(app, argc, argv)) return *stop;
   try {
     if (r->parsed()) {
       gnn::configure_runtime(gnn::inference_runtime(rollout.common.threads));
       rollout.common.log = &std::cerr;
       infer::run_rollout(rollout);
+    } else if (c->parsed()) {
+      gnn::configure_runtime(gnn::inference_runtime(compare.threads));
+      compare.log = &std::cerr;
+      infer::run_compare(compare);
     } else {
       gnn::configure_runtime(gnn::inference_runtime(eval.common.threads));
       eval.common.log = &std::cerr;

@@ -10,7 +10,7 @@
 #include "gnn/eval/rollout.h"
 #include "infer/commands.h"
 #include "infer/loaded_data.h"
-#include "infer/side_by_side.h"
+#include "infer/map_views.h"
 #include "sph/io/tensor_recorder.h"
 
 namespace infer {
@@ -52,11 +52,7 @@ void run_rollout(const RolloutOptions& o) {
   auto velocity = (r.position.slice(0, 1) - r.position.slice(0, 0, frames)) / d.metadata.frame_dt;
   rec.velocity = torch::cat({t.velocity[o.from].unsqueeze(0), velocity});
   rec.active = r.active.to(torch::kUInt8);
-  rec.volume_fraction = (t.particle_type == gnn::kOil)
-                            .to(torch::kFloat32)
-                            .unsqueeze(0)
-                            .expand({frames + 1, -1})
-                            .contiguous();
+  rec.volume_fraction = r.oil_fraction;
   rec.particle_type = t.particle_type.to(torch::kInt32);
   rec.boundary_position = t.boundary;
   const std::string group = t.source.substr(t.source.rfind('/') + 1);
@@ -70,18 +66,22 @@ void run_rollout(const RolloutOptions& o) {
                          {"frames", frames},
                          {"note",
                           "predicted positions of the learned simulator; particles enter "
-                          "and leave on the recorded schedule; volume_fraction is the "
-                          "particle's phase (not predicted)"}};
+                          "and leave on the recorded schedule, with their recorded oil "
+                          "fraction; volume_fraction is the model's prediction for the others"}};
   metadata["sequence_length"] = frames + 1;
   common::write_file_atomically(tmp / "metadata.json", metadata.dump(2) + "\n");
 
-  SideBySideRenderer renderer(t, d.metadata);
+  MapViewRenderer renderer(t, d.metadata);
   for (int64_t k = 0; k <= frames; ++k) {
     if (k % std::max(o.png_every, 1) != 0 && k != frames) continue;
     std::ostringstream name;
     name << "compare_" << std::setw(4) << std::setfill('0') << (o.from + k) << ".png";
-    renderer.write((tmp / "frames" / name.str()).string(), t.position[o.from + k],
-                   t.active[o.from + k], r.position[k], r.active[k]);
+    // Truth on the left, prediction on the right.
+    common::write_png(
+        (tmp / "frames" / name.str()).string(),
+        image_grid({{renderer.render(t.position[o.from + k], t.active[o.from + k],
+                                     t.oil_fraction[o.from + k]),
+                     renderer.render(r.position[k], r.active[k], r.oil_fraction[k])}}));
   }
 
   const double wall = std::accumulate(r.frame_seconds.begin(), r.frame_seconds.end(), 0.0);

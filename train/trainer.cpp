@@ -107,7 +107,10 @@ Trainer::Trainer(TrainerOptions options) : options_(std::move(options)) {
     torch::manual_seed(uint64_t(config_.training.seed));
     auto model = gnn::make_model(config_.model_json, config_.model_file);
     simulator_ = std::make_unique<gnn::LearnedSimulator>(
-        model, gnn::Normalisation::from_metadata(metadata_, model->noise_std()), metadata_.bounds);
+        model,
+        gnn::Normalisation::from_metadata(metadata_, model->noise_std(),
+                                          gnn::oil_fraction_change_rms(train_)),
+        metadata_.bounds);
     state_.training_config = config_.training_json;
   }
   // A model without parameters (the constant-velocity floor) has nothing to learn: Adam would get
@@ -116,7 +119,7 @@ Trainer::Trainer(TrainerOptions options) : options_(std::move(options)) {
     throw common::ConfigError(config_.model_file, "/model",
                               simulator_->model().name() + " has no parameters to train");
   simulator_->to(options_.device);
-  objective_ = gnn::make_objective(simulator_->model());
+  objective_ = gnn::make_objective(simulator_->model(), config_.training.oil_fraction_loss_weight);
   optimizer_ = std::make_unique<torch::optim::Adam>(
       simulator_->model().parameters(), torch::optim::AdamOptions(config_.training.lr_max));
   noise_generator_ = at::make_generator<at::CPUGeneratorImpl>(uint64_t(config_.training.seed));
@@ -133,7 +136,7 @@ TrainingBatch Trainer::sample_batch() {
   const auto& c = config_.training;
   const int64_t push = c.pushforward_steps;
   std::vector<gnn::GraphInput> graphs;
-  std::vector<torch::Tensor> targets, masks;
+  std::vector<torch::Tensor> targets, masks, fraction_targets;
   for (int b = 0; b < c.batch_size; ++b) {
     const auto& t = train_[std::uniform_int_distribution<size_t>(0, train_.size() - 1)(sampler_)];
     // Loss frame: a full window of recorded history behind the pushed-forward start.
@@ -145,20 +148,25 @@ TrainingBatch Trainer::sample_batch() {
       ids = ids.index({present});
     }
     auto history = gnn::position_history(t, frame - push, ids, metadata_.frame_dt);
-    auto type = t.particle_type.index_select(0, ids);
+    auto fraction = t.oil_fraction[frame - push].index_select(0, ids);
     for (int64_t k = 0; k < push; ++k) {
-      auto next = simulator_->next_position({history, type, t.material, t.boundary});
-      history = torch::cat({history.slice(1, 1), next.unsqueeze(1)}, 1);
+      const gnn::NextState next =
+          simulator_->next_state({history, fraction, t.material, t.boundary});
+      history = torch::cat({history.slice(1, 1), next.position.unsqueeze(1)}, 1);
+      fraction = next.oil_fraction;
     }
     history = gnn::random_walk_noise(history, simulator_->model().noise_std(), noise_generator_);
     auto next = t.position[frame + 1].index_select(0, ids);
-    gnn::FrameNodes nodes{history, type, t.material, t.boundary};
+    gnn::FrameNodes nodes{history, fraction, t.material, t.boundary};
     graphs.push_back(simulator_->encode(nodes));
     targets.push_back(simulator_->normalise_acceleration(gnn::target_acceleration(history, next)));
+    fraction_targets.push_back(simulator_->normalise_fraction_change(
+        t.oil_fraction[frame + 1].index_select(0, ids) - fraction));
     masks.push_back(t.active[frame + 1].index_select(0, ids));
   }
   const torch::Device device = simulator_->device();
-  return {gnn::join_graphs(graphs), torch::cat(targets).to(device), torch::cat(masks).to(device)};
+  return {gnn::join_graphs(graphs), torch::cat(targets).to(device), torch::cat(masks).to(device),
+          torch::cat(fraction_targets).to(device)};
 }
 
 torch::Tensor Trainer::loss(const TrainingBatch& batch) {
@@ -183,7 +191,8 @@ void Trainer::validate(double& one_step_loss, double& rollout_mse) {
         (span * (k / int(valid_.size()) + 1)) / (c.validation_samples / int(valid_.size()) + 2);
     auto ids = gnn::active_ids(t, frame);
     auto history = gnn::position_history(t, frame, ids, metadata_.frame_dt);
-    gnn::FrameNodes nodes{history, t.particle_type.index_select(0, ids), t.material, t.boundary};
+    gnn::FrameNodes nodes{history, t.oil_fraction[frame].index_select(0, ids), t.material,
+                          t.boundary};
     auto target = simulator_->normalise_acceleration(
         gnn::target_acceleration(history, t.position[frame + 1].index_select(0, ids)));
     auto keep = t.active[frame + 1].index_select(0, ids);

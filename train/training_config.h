@@ -26,6 +26,7 @@ struct TrainingConfig {
   int checkpoint_every = 500;
   int log_every = 10;
   int seed = 1;
+  double oil_fraction_loss_weight = 1.0;
 
   template <class V>
   void describe(V& v) {
@@ -51,6 +52,9 @@ struct TrainingConfig {
             param("", "steps between checkpoints").at_least(1));
     v.field("log_every", log_every, param("", "steps averaged into one log.csv row").at_least(1));
     v.field("seed", seed, param("", "seed of sampling and noise").non_negative());
+    v.field("oil_fraction_loss_weight", oil_fraction_loss_weight,
+            param("", "weight of the oil fraction change's MSE beside the acceleration's")
+                .non_negative());
   }
 };
 

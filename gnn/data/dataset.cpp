@@ -99,9 +99,9 @@ torch::Tensor vec_tensor(const std::array<double, 3>& v) {
   return torch::tensor({float(v[0]), float(v[1]), float(v[2])});
 }
 
-// The scene's materials with the trajectory's drawn parameters applied (they are JSON pointers
-// into the scene, e.g. /materials/oil/density).
-nlohmann::json trajectory_materials(const nlohmann::json& metadata, int64_t index) {
+// The scene with the trajectory's drawn parameters applied (they are JSON pointers into the
+// scene, e.g. /materials/oil/density); empty without a scene.
+nlohmann::json trajectory_scene(const nlohmann::json& metadata, int64_t index) {
   if (!metadata.contains("scene")) return nlohmann::json::object();
   nlohmann::json scene = metadata["scene"];
   if (metadata.contains("trajectories") && index < int64_t(metadata["trajectories"].size())) {
@@ -111,11 +111,11 @@ nlohmann::json trajectory_materials(const nlohmann::json& metadata, int64_t inde
         try {
           scene[nlohmann::json::json_pointer(pointer)] = value;
         } catch (const nlohmann::json::exception&) {
-          // Not a pointer into the scene object: it cannot change a material.
+          // Not a pointer into the scene object: it changes nothing of the scene.
         }
       }
   }
-  return scene.value("materials", nlohmann::json::object());
+  return scene;
 }
 
 }  // namespace
@@ -252,9 +252,23 @@ std::vector<Trajectory> read_split(const std::string& dir, const std::string& sp
       t.time = torch::arange(T, torch::kFloat64) * metadata.frame_dt;
     }
     if (has_link(group.id, "volume_fraction")) {
-      auto fraction =
+      t.oil_fraction =
           read_dataset(group.id, "volume_fraction", where, H5T_FLOAT, 2, torch::kFloat32);
-      expect_shape(fraction, {T, N}, where + "/volume_fraction");
+      expect_shape(t.oil_fraction, {T, N}, where + "/volume_fraction");
+      // Values a hair outside [0, 1] are float rounding of the mixture exchange; more is damage.
+      const auto used = t.oil_fraction.index({t.active});
+      if (used.numel() > 0 &&
+          (!torch::isfinite(used).all().item<bool>() || used.min().item<double>() < -1e-3 ||
+           used.max().item<double>() > 1 + 1e-3))
+        fail(where + "/volume_fraction",
+             "oil fractions of active particles must lie in [0, 1] (found " +
+                 std::to_string(used.min().item<double>()) + " .. " +
+                 std::to_string(used.max().item<double>()) + ")");
+      t.oil_fraction.clamp_(0, 1);
+    } else {
+      // A dataset without mixture fractions (single-phase solvers): each particle is its type.
+      t.oil_fraction = (t.particle_type == kOil).to(torch::kFloat32).unsqueeze(0).expand({T, N});
+      t.oil_fraction = t.oil_fraction.contiguous();
     }
     if (has_link(group.id, "boundary_position")) {
       t.boundary =
@@ -292,11 +306,10 @@ std::vector<Trajectory> read_split(const std::string& dir, const std::string& sp
                                                ", beyond the dataset's bounds");
     }
     const int64_t entry = g < metadata_index.size() ? metadata_index[g] : -1;
-    t.material =
-        material_table(entry >= 0 ? trajectory_materials(metadata.raw, entry)
-                       : metadata.raw.contains("scene")
-                           ? metadata.raw["scene"].value("materials", nlohmann::json::object())
-                           : nlohmann::json::object());
+    t.scene = entry >= 0                       ? trajectory_scene(metadata.raw, entry)
+              : metadata.raw.contains("scene") ? metadata.raw["scene"]
+                                               : nlohmann::json::object();
+    t.material = material_table(t.scene.value("materials", nlohmann::json::object()));
     if (entry >= 0)
       t.sph_seconds_per_frame =
           metadata.raw["trajectories"][entry].value("sph_seconds_per_frame", 0.0);
@@ -312,6 +325,7 @@ Trajectory from_recorded(const sph::RecordedTrajectory& r, const nlohmann::json&
   t.velocity = r.velocity;
   t.active = r.active.to(torch::kBool);
   t.particle_type = r.particle_type.to(torch::kInt64);
+  t.oil_fraction = r.volume_fraction.clamp(0, 1);
   t.boundary = r.boundary_position;
   t.time = r.time;
   t.material = material_table(materials);

@@ -29,6 +29,14 @@ class DatasetError : public common::InputError {
 enum NodeType : int64_t { kWater = 0, kOil = 1, kBoundary = 2 };
 constexpr int64_t kNodeTypes = 3;
 
+// A particle is oil when its oil volume fraction is at least this (the rule of spill.json).
+constexpr double kOilFractionThreshold = 0.5;
+
+// Node types (water or oil) [n] int64 of fluid particles from their oil fractions [n].
+inline torch::Tensor phase_from_fraction(const torch::Tensor& oil_fraction) {
+  return (oil_fraction >= kOilFractionThreshold).to(torch::kInt64);
+}
+
 struct DatasetMetadata {
   std::string file;  // metadata.json it came from
   int dim = 3;
@@ -48,13 +56,20 @@ struct Trajectory {
   torch::Tensor position;       // [T, N, 3] float32, m
   torch::Tensor velocity;       // [T, N, 3] float32, m/s
   torch::Tensor active;         // [T, N] bool
-  torch::Tensor particle_type;  // [N] int64 (water or oil)
-  torch::Tensor boundary;       // [M, 3] float32
-  torch::Tensor time;           // [T] float64, s
+  torch::Tensor particle_type;  // [N] int64 (water or oil): what each particle was emitted as
+  // Oil volume fraction [T, N] float32 in [0, 1]. MTDF-SPH moves oil between particles, so this,
+  // not particle_type, says what a particle is at a frame (oil when >= 1/2, as spill.json
+  // counts it); every model input and oil measure reads it.
+  torch::Tensor oil_fraction;
+  torch::Tensor boundary;  // [M, 3] float32
+  torch::Tensor time;      // [T] float64, s
   // Static material features by node type (rows water, oil, boundary): rest density ratio - 1 and
   // viscosity ratio - 1 against water, so water is (0, 0).
   torch::Tensor material;            // [3, 2] float32
   double sph_seconds_per_frame = 0;  // wall time of the SPH that produced it, 0 if unknown
+  // The resolved scene it was simulated from, its drawn parameters applied (metadata.json's
+  // "scene"); empty when unknown.
+  nlohmann::json scene;
   int64_t frames() const { return position.size(0); }
   int64_t particles() const { return position.size(1); }
 };

@@ -20,20 +20,24 @@ RolloutResult rollout(LearnedSimulator& simulator, const Trajectory& t, int64_t 
   out.first_frame = first_frame;
   out.position = torch::empty({frames + 1, N, 3});
   out.active = torch::empty({frames + 1, N}, torch::kBool);
+  out.oil_fraction = torch::empty({frames + 1, N});
   auto history = torch::zeros({N, kWindow, 3});
+  auto fraction = t.oil_fraction[first_frame].clone();
   auto active = t.active[first_frame].clone();
   auto ids = active_ids(t, first_frame);
   history.index_copy_(0, ids, position_history(t, first_frame, ids, frame_dt));
   out.position[0] = t.position[first_frame];
   out.active[0] = active;
+  out.oil_fraction[0] = fraction;
   for (int64_t k = 0; k < frames; ++k) {
     const auto start = std::chrono::steady_clock::now();
     const int64_t frame = first_frame + k;
     ids = active.nonzero().view(-1);
     auto window = history.index_select(0, ids);
-    FrameNodes nodes{window, t.particle_type.index_select(0, ids), t.material, t.boundary};
-    auto next = simulator.next_position(nodes);
-    history.index_copy_(0, ids, torch::cat({window.slice(1, 1), next.unsqueeze(1)}, 1));
+    FrameNodes nodes{window, fraction.index_select(0, ids), t.material, t.boundary};
+    const NextState next = simulator.next_state(nodes);
+    history.index_copy_(0, ids, torch::cat({window.slice(1, 1), next.position.unsqueeze(1)}, 1));
+    fraction.index_copy_(0, ids, next.oil_fraction);
     // The recorded schedule of the next frame: retire, then activate.
     auto recorded = t.active[frame + 1];
     active.logical_and_(recorded);
@@ -41,11 +45,13 @@ RolloutResult rollout(LearnedSimulator& simulator, const Trajectory& t, int64_t 
     for (int64_t i = 0; i < launched.size(0); ++i) {
       const int64_t p = launched[i].item<int64_t>();
       history[p] = launched_history(t, frame + 1, p, frame_dt);
+      fraction[p] = t.oil_fraction[frame + 1][p];
     }
     active.logical_or_(recorded);
     out.position[k + 1] =
         torch::where(active.unsqueeze(1), history.select(1, kWindow - 1), t.position[frame + 1]);
     out.active[k + 1] = active;
+    out.oil_fraction[k + 1] = torch::where(active, fraction, t.oil_fraction[frame + 1]);
     out.frame_seconds.push_back(
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
     if (on_frame) on_frame(k + 1);
@@ -61,7 +67,7 @@ double one_step_position_mse(LearnedSimulator& simulator, const Trajectory& t,
   for (int64_t frame : frames) {
     auto ids = active_ids(t, frame);
     FrameNodes nodes{position_history(t, frame, ids, frame_dt),
-                     t.particle_type.index_select(0, ids), t.material, t.boundary};
+                     t.oil_fraction[frame].index_select(0, ids), t.material, t.boundary};
     auto next = simulator.next_position(nodes);
     auto truth = t.position[frame + 1].index_select(0, ids);
     auto keep = t.active[frame + 1].index_select(0, ids);

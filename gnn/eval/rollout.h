@@ -3,7 +3,8 @@
 // recycled at the inflow are activated, and particles leaving through the outflow retired, on the
 // recorded schedule: these are boundary conditions, not predictions. A particle activated at
 // frame t enters at its recorded position and velocity (its history extrapolated back along the
-// velocity, as in training); every particle that stays active moves by the model alone.
+// velocity, as in training) with its recorded oil fraction; every particle that stays active moves,
+// and exchanges oil with the others, by the model alone.
 
 #include <torch/torch.h>
 
@@ -16,10 +17,11 @@
 namespace gnn {
 
 struct RolloutResult {
-  int64_t first_frame = 0;  // the recorded frame the rollout starts from
-  torch::Tensor position;   // [F + 1, N, 3]: frame 0 is the recorded start; inactive rows copy
-                            // the recording (they are not predictions)
-  torch::Tensor active;     // [F + 1, N] bool
+  int64_t first_frame = 0;     // the recorded frame the rollout starts from
+  torch::Tensor position;      // [F + 1, N, 3]: frame 0 is the recorded start; inactive rows copy
+                               // the recording (they are not predictions)
+  torch::Tensor active;        // [F + 1, N] bool
+  torch::Tensor oil_fraction;  // [F + 1, N] float32, likewise
   std::vector<double> frame_seconds;  // wall time of each predicted frame
 };
 

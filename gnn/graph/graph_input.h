@@ -11,8 +11,9 @@
 namespace gnn {
 
 struct GraphInput {
-  torch::Tensor node_features;  // [n, 23] float32: 5 velocities, 2 material, 6 bound distances
-  torch::Tensor node_type;      // [n] int64: water, oil, boundary
+  // [n, 24] float32: 5 velocities, 2 material, the oil fraction, 6 bound distances
+  torch::Tensor node_features;
+  torch::Tensor node_type;      // [n] int64: water, oil (oil fraction >= 1/2), boundary
   torch::Tensor edge_index;     // [2, E] int64: senders, receivers
   torch::Tensor edge_features;  // [E, 4] float32: (x_sender - x_receiver) / radius, its norm
   torch::Tensor fluid;          // [n] bool: the nodes whose acceleration is predicted
@@ -26,8 +27,12 @@ struct GraphInput {
 
 constexpr int64_t kVelocityFeatures = 15;
 constexpr int64_t kMaterialFeatures = 2;
+constexpr int64_t kFractionFeatures = 1;
 constexpr int64_t kBoundFeatures = 6;
-constexpr int64_t kNodeFeatures = kVelocityFeatures + kMaterialFeatures + kBoundFeatures;
+constexpr int64_t kNodeFeatures =
+    kVelocityFeatures + kMaterialFeatures + kFractionFeatures + kBoundFeatures;
+// The oil fraction's column (0 for boundary nodes).
+constexpr int64_t kOilFractionColumn = kVelocityFeatures + kMaterialFeatures;
 // node_features begins with the 5 velocities, oldest first, 3 columns each (x, y, z); the newest
 // (x_t - x_(t-1), normalised) is columns kLastVelocityColumn .. kLastVelocityColumn + 2.
 constexpr int64_t kLastVelocityColumn = kVelocityFeatures - 3;

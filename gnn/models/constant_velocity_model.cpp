@@ -20,6 +20,8 @@ ModelOutput ConstantVelocityModel::run(const GraphInput& g, const ForwardOptions
                          .unsqueeze(0)
                          .expand({g.nodes(), 3})
                          .contiguous();  // [n, 3]
+  // Nor does any oil move between particles (the change's mean is zero by construction).
+  out.oil_fraction_change = torch::zeros({g.nodes()}, g.node_features.options());
   return out;
 }
 

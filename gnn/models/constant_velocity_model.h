@@ -42,6 +42,7 @@ class ConstantVelocityModel : public GraphModel {
   double noise_std() const override { return config_.noise_std; }
   nlohmann::json config() const override;
   void set_normalisation(const Normalisation& normalisation) override;
+  double flops(int64_t, int64_t) const override { return 0; }  // it computes nothing
 
  protected:
   // Throws std::logic_error when no normalisation was set.

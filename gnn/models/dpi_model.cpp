@@ -28,12 +28,12 @@ DpiModel::DpiModel(const DpiConfig& config) : config_(config) {
   particle_code_ = register_module("particle_code", linear(P, F, true));
   particle_sum_ = register_module("particle_sum", linear(F, F, false));
   particle_self_ = register_module("particle_self", linear(F, F, false));
-  decoder_ = register_module("decoder", Mlp(F, F, 3, 1, false));
+  decoder_ = register_module("decoder", Mlp(F, F, kModelOutputs, 1, false));
 }
 
 torch::Tensor DpiModel::next_velocity(const GraphInput& g) {
   check_graph_input(g, "dpi next_velocity");
-  return propagate(g, nullptr, nullptr);
+  return propagate(g, nullptr, nullptr).slice(1, 0, 3);
 }
 
 torch::Tensor DpiModel::propagate(const GraphInput& g, std::vector<torch::Tensor>* node_latents,
@@ -41,7 +41,7 @@ torch::Tensor DpiModel::propagate(const GraphInput& g, std::vector<torch::Tensor
   const int64_t R = config_.relation_width, F = config_.effect_width, n = g.nodes();
   const EdgeOrder order = edge_order(g.edge_index, n);
 
-  // Encoders. s: [n, 23 + type_embedding]
+  // Encoders. s: [n, kNodeFeatures + type_embedding]
   const auto s = torch::cat({g.node_features, type_embedding_->forward(g.node_type)}, 1);
   const auto particle = torch::relu(particle_encoder_->forward(s));  // c_i [n, P]
   torch::Tensor relation;                                            // c_ij [E, R]
@@ -83,13 +83,31 @@ ModelOutput DpiModel::run(const GraphInput& g, const ForwardOptions& options) {
         "dpi: no normalisation statistics to turn the predicted velocity into an acceleration "
         "(use the model through a LearnedSimulator, or call set_normalisation)");
   ModelOutput out;
-  const auto u = propagate(g, options.keep_latents ? &out.node_latents : nullptr,
-                           options.keep_latents ? &out.edge_latents : nullptr);
+  const auto decoded = propagate(g, options.keep_latents ? &out.node_latents : nullptr,
+                                 options.keep_latents ? &out.edge_latents : nullptr);  // [n, 4]
+  const auto u = decoded.slice(1, 0, 3);
+  out.oil_fraction_change = decoded.select(1, 3);
   const auto last = g.node_features.slice(1, kLastVelocityColumn, kLastVelocityColumn + 3);
   const auto device = u.device();
   out.acceleration =
       (u - last) * velocity_scale_.to(device) + acceleration_offset_.to(device);  // [n, 3]
   return out;
+}
+
+double DpiModel::flops(int64_t nodes, int64_t edges) const {
+  auto linear_flops = [](const torch::nn::Linear& l) {
+    return 2.0 * double(l->weight.size(0) * l->weight.size(1));
+  };
+  const double n = double(nodes), e = double(edges), steps = config_.propagation_steps;
+  // Encoders (the relation encoder's node parts as per-node projections, see the header).
+  double f = n * (particle_encoder_->flops_per_row() + linear_flops(relation_nodes_)) +
+             e * relation_encoder_->flops_per_row();
+  // The propagators' parts on the encodings, once.
+  f += e * linear_flops(relation_code_) + n * linear_flops(particle_code_);
+  // Per step: the sum's projection; after the first, the effect projections and the self term.
+  f += steps * n * linear_flops(particle_sum_) +
+       (steps - 1) * n * (linear_flops(relation_effects_) + linear_flops(particle_self_));
+  return f + n * decoder_->flops_per_row();
 }
 
 void DpiModel::set_normalisation(const Normalisation& n) {

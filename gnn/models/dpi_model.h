@@ -9,7 +9,7 @@
 //   are shared by the steps, as in the paper):
 //     relation effect   e_ij^l = ReLU(W_R [c_ij, h_i^(l-1), h_j^(l-1)] + b_R)     [E, effect]
 //     particle effect   h_i^l  = h_i^(l-1) + ReLU(W_O [c_i, sum_j e_ij^l, h_i^(l-1)] + b_O)
-//   decoder             u_i  = MLP_D(h_i^L)                                        [n, 3]
+//   decoder             u_i, r_i = MLP_D(h_i^L)                                    [n, 3 + 1]
 //
 // where s_i is a node's state (its normalised features of graph_input.h and the learned
 // embedding of its type), d_ij the edge features ((x_j - x_i) / radius and its norm) and edge
@@ -33,7 +33,8 @@
 // per component, with the statistics LearnedSimulator hands over (set_normalisation). Note the
 // factor vel_std / acc_std (~10 on the tiny test dataset, more on slow-changing flows): an error
 // in u counts that many times over in the normalised-acceleration loss; it is the price of the
-// paper's velocity head.
+// paper's velocity head. The decoder's fourth column r_i is the normalised change of the oil
+// fraction, the output every model shares (graph_model.h).
 
 #include <vector>
 
@@ -89,6 +90,7 @@ class DpiModel : public GraphModel {
   double noise_std() const override { return config_.noise_std; }
   nlohmann::json config() const override;
   void set_normalisation(const Normalisation& normalisation) override;
+  double flops(int64_t nodes, int64_t edges) const override;
   const DpiConfig& dpi_config() const { return config_; }
 
   // The decoder's output alone, the normalised next velocity u [n, 3], for a checked graph

@@ -51,7 +51,7 @@ GnsModel::GnsModel(const GnsConfig& config) : config_(config) {
     aggregate_.push_back(register_module(
         "node_aggregate" + s, torch::nn::Linear(torch::nn::LinearOptions(L, L).bias(false))));
   }
-  decoder_ = register_module("decoder", Mlp(L, L, 3, H, false));
+  decoder_ = register_module("decoder", Mlp(L, L, kModelOutputs, H, false));
 }
 
 GnsModel::Latents GnsModel::encode(const GraphInput& g) {
@@ -254,7 +254,9 @@ ModelOutput GnsModel::run(const GraphInput& g, const ForwardOptions& options) {
   ModelOutput out;
   const Latents latents = process(encode(g), g, options.keep_latents ? &out.node_latents : nullptr,
                                   options.keep_latents ? &out.edge_latents : nullptr);
-  out.acceleration = decode(latents);
+  const auto decoded = decode(latents);  // [n, 4]
+  out.acceleration = decoded.slice(1, 0, 3);
+  out.oil_fraction_change = decoded.select(1, 3);
   return out;
 }
 
@@ -263,6 +265,11 @@ std::shared_ptr<GraphModel> GnsModel::from_config(const nlohmann::json& config,
   GnsConfig c;
   common::JsonReader::read_struct(config, file, "", c);
   return std::make_shared<GnsModel>(c);
+}
+
+double GnsModel::flops(int64_t nodes, int64_t edges) const {
+  return double(nodes) * (node_encoder_->flops_per_row() + decoder_->flops_per_row()) +
+         double(edges) * edge_encoder_->flops_per_row() + processor_flops(nodes, edges);
 }
 
 double GnsModel::processor_flops(int64_t nodes, int64_t edges) const {

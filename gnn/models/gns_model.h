@@ -3,7 +3,7 @@
 // Networks"), as MODELS.md specifies it: encode-process-decode with MLPs of `mlp_hidden_layers`
 // hidden layers (ReLU) and LayerNorm on encoders and processor, `layers` interaction-network
 // steps with separate weights and residuals on nodes and edges, sum aggregation to receivers,
-// and a decoder to 3 outputs without LayerNorm.
+// and a decoder without LayerNorm to 4 outputs: the acceleration and the oil fraction's change.
 //
 // CPU hot path: the edge MLP's first layer on [e_ij, v_i, v_j] (3 x latent wide) is split into
 // W_e e_ij + (W_r V)[receiver] + (W_s V)[sender]: the node projections cost one [n, L] x [L, 2L]
@@ -54,6 +54,12 @@ class MlpImpl : public torch::nn::Module {
   torch::nn::Linear first() { return layers_[0]; }
   torch::nn::Linear linear(size_t k) { return layers_[k]; }
   size_t linears() const { return layers_.size(); }
+  // Multiply-add FLOPs (2 per multiply-add) of the MLP's Linears for one row.
+  double flops_per_row() const {
+    double f = 0;
+    for (const auto& l : layers_) f += 2.0 * double(l->weight.size(0) * l->weight.size(1));
+    return f;
+  }
   torch::nn::LayerNorm norm() { return norm_; }
 
  private:
@@ -80,6 +86,7 @@ class GnsModel : public GraphModel {
   torch::Tensor decode(const Latents& latents);
   // Multiply-add FLOPs (2 per multiply-add) of the processor's matrix products for a graph.
   double processor_flops(int64_t nodes, int64_t edges) const;
+  double flops(int64_t nodes, int64_t edges) const override;
   std::string name() const override { return "gns"; }
   double radius() const override { return config_.radius; }
   double noise_std() const override { return config_.noise_std; }

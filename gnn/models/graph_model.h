@@ -28,9 +28,15 @@ struct ForwardOptions {
   bool keep_latents = false;
 };
 
-// A model's output for one graph.
+// A model's output for one graph. Every model's head has kModelOutputs columns: the normalised
+// acceleration and the normalised change of the oil fraction.
+constexpr int64_t kModelOutputs = 4;
+
 struct ModelOutput {
-  torch::Tensor acceleration;               // [n, 3] normalised (only fluid rows are used)
+  torch::Tensor acceleration;  // [n, 3] normalised (only fluid rows are used)
+  // [n] normalised change of the oil fraction over the frame (only fluid rows are used); the
+  // simulator turns it into a conserving update (LearnedSimulator::next_state).
+  torch::Tensor oil_fraction_change;
   std::vector<torch::Tensor> node_latents;  // per processor layer [n, L]; empty unless asked
   std::vector<torch::Tensor> edge_latents;  // per processor layer [E, L]; empty unless asked
   // Outputs of auxiliary heads by name, e.g. PAGATNet's "node_class_logits" [n, 4].
@@ -68,6 +74,10 @@ class GraphModel : public torch::nn::Module {
   // predicts the next velocity, the constant-velocity floor zero acceleration) converts its
   // output with them; the default ignores them.
   virtual void set_normalisation(const Normalisation& /*normalisation*/) {}
+  // Multiply-add FLOPs (2 per multiply-add) of one forward pass's matrix products on a graph of
+  // `nodes` nodes and `edges` edges (gathers, sums and activations left out); < 0 when the model
+  // does not say.
+  virtual double flops(int64_t /*nodes*/, int64_t /*edges*/) const { return -1; }
 
   // The device of the model's parameters (where its inputs must be).
   torch::Device device() const {

@@ -3,6 +3,8 @@
 #include "gnn/data/frame_window.h"
 #include "gnn/graph/radius_graph.h"
 
+#include <algorithm>
+#include <cmath>
 #include <stdexcept>
 #include <vector>
 
@@ -23,7 +25,7 @@ void check_frame_nodes(const FrameNodes& f, const std::string& where) {
   };
   check("history", f.history, {-1, kWindow, 3}, torch::kFloat32);
   const int64_t n = f.history.size(0);
-  check("type", f.type, {n}, torch::kInt64);
+  check("oil_fraction", f.oil_fraction, {n}, torch::kFloat32);
   check("material", f.material, {3, kMaterialFeatures}, torch::kFloat32);
   check("boundary", f.boundary, {-1, 3}, torch::kFloat32);
 }
@@ -47,8 +49,16 @@ GraphInput LearnedSimulator::encode(const FrameNodes& f) const {
   velocity = torch::cat({velocity, torch::zeros({boundary_count, kWindow - 1, 3})});
   velocity = (velocity - normalisation_.vel_mean) / normalisation_.vel_std;
 
-  auto type = torch::cat({f.type, torch::full({boundary_count}, kBoundary, torch::kInt64)});
-  auto material = f.material.index_select(0, type);
+  // The phase by the oil fraction (spill.json's rule), and the material of the mixture: linear
+  // in the fraction, as MTDF-SPH mixes rest density and viscosity.
+  auto type = torch::cat({phase_from_fraction(f.oil_fraction),
+                          torch::full({boundary_count}, kBoundary, torch::kInt64)});
+  auto fraction = f.oil_fraction.unsqueeze(1);
+  auto fluid_material =
+      f.material[kWater].unsqueeze(0) + fraction * (f.material[kOil] - f.material[kWater]);
+  auto material =
+      torch::cat({fluid_material, f.material[kBoundary].unsqueeze(0).expand({boundary_count, -1})});
+  fraction = torch::cat({fraction, torch::zeros({boundary_count, 1})});
 
   // Distances to the domain's faces in radii, clipped to [-1, 1]: a wall is felt only within
   // reach of the graph.
@@ -59,7 +69,7 @@ GraphInput LearnedSimulator::encode(const FrameNodes& f) const {
 
   GraphInput g;
   g.node_features = torch::cat({velocity.reshape({fluid_count + boundary_count, kVelocityFeatures}),
-                                material, bound_distance},
+                                material, fraction, bound_distance},
                                1);
   g.node_type = type;
   g.edge_index = graph.edge_index;
@@ -75,9 +85,11 @@ GraphInput LearnedSimulator::encode(const FrameNodes& f) const {
   return device.is_cpu() ? g : to_device(g, device);
 }
 
-torch::Tensor LearnedSimulator::predict_normalised(const FrameNodes& nodes) {
+NormalisedPrediction LearnedSimulator::predict(const FrameNodes& nodes) {
   const int64_t fluid_count = nodes.history.size(0);
-  return model_->acceleration(encode(nodes)).slice(0, 0, fluid_count).to(torch::kCPU);
+  const ModelOutput out = model_->forward(encode(nodes), ForwardOptions{});
+  return {out.acceleration.slice(0, 0, fluid_count).to(torch::kCPU),
+          out.oil_fraction_change.slice(0, 0, fluid_count).to(torch::kCPU)};
 }
 
 torch::Tensor LearnedSimulator::normalise_acceleration(const torch::Tensor& a) const {
@@ -88,12 +100,43 @@ torch::Tensor LearnedSimulator::denormalise_acceleration(const torch::Tensor& a)
   return a * normalisation_.acc_std + normalisation_.acc_mean;
 }
 
-torch::Tensor LearnedSimulator::next_position(const FrameNodes& nodes) {
+torch::Tensor LearnedSimulator::normalise_fraction_change(const torch::Tensor& change) const {
+  return change / normalisation_.fraction_change_std;
+}
+
+torch::Tensor LearnedSimulator::denormalise_fraction_change(const torch::Tensor& normalised) const {
+  return normalised * normalisation_.fraction_change_std;
+}
+
+NextState LearnedSimulator::next_state(const FrameNodes& nodes) {
   torch::NoGradGuard no_grad;
-  auto acceleration = denormalise_acceleration(predict_normalised(nodes));
+  const NormalisedPrediction p = predict(nodes);
+  auto acceleration = denormalise_acceleration(p.acceleration);
   auto last = nodes.history.select(1, kWindow - 1);
   auto velocity = last - nodes.history.select(1, kWindow - 2) + acceleration;
-  return last + velocity;
+  return {last + velocity,
+          conserving_fraction_update(nodes.oil_fraction,
+                                     denormalise_fraction_change(p.oil_fraction_change))};
+}
+
+torch::Tensor conserving_fraction_update(const torch::Tensor& fraction,
+                                         const torch::Tensor& change) {
+  if (fraction.numel() == 0) return fraction.clone();
+  const auto old = fraction.to(torch::kFloat64);
+  const auto delta = change.to(torch::kFloat64);
+  auto updated = (old + (delta - delta.mean())).clamp(0, 1);
+  const double target = old.sum().item<double>();
+  // Each pass hands the clipped remainder to the particles with room in its direction; a pass
+  // either places all of it or fills some more particles up, so few passes are needed.
+  for (int pass = 0; pass < 64; ++pass) {
+    const double remainder = target - updated.sum().item<double>();
+    if (std::abs(remainder) <= 1e-12 * std::max(1.0, target)) break;
+    const auto room = remainder > 0 ? updated < 1 : updated > 0;
+    const int64_t takers = room.sum().item<int64_t>();
+    if (takers == 0) break;  // all 0 or all 1: nothing left to move
+    updated = torch::where(room, updated + remainder / double(takers), updated).clamp(0, 1);
+  }
+  return updated.to(torch::kFloat32);
 }
 
 }  // namespace gnn

@@ -1,9 +1,10 @@
 #pragma once
 // A graph model together with everything needed to use it on particles: the normalisation
 // statistics, the domain bounds and the input pipeline of MODELS.md. It turns a window of
-// positions into a graph (node and edge features), the model's normalised output into an
-// acceleration, and advances positions by semi-implicit Euler in frame units
-// (v' = v + a, x' = x + v').
+// positions and the particles' oil fractions into a graph (node and edge features), the model's
+// normalised output into an acceleration and a change of the oil fraction, advances positions by
+// semi-implicit Euler in frame units (v' = v + a, x' = x + v') and the oil fractions by an
+// update that keeps the oil volume (conserving_fraction_update).
 
 #include <torch/torch.h>
 
@@ -18,11 +19,31 @@ namespace gnn {
 
 // The fluid particles of one frame and the static boundary around them.
 struct FrameNodes {
-  torch::Tensor history;   // [n, 6, 3] float32 positions, oldest first
-  torch::Tensor type;      // [n] int64, water or oil
-  torch::Tensor material;  // [3, 2] float32 material features by type
-  torch::Tensor boundary;  // [M, 3] float32 boundary positions (those near fluid become nodes)
+  torch::Tensor history;       // [n, 6, 3] float32 positions, oldest first
+  torch::Tensor oil_fraction;  // [n] float32 in [0, 1] at the newest position; the node type
+                               // (oil when >= 1/2) and the material features follow from it
+  torch::Tensor material;      // [3, 2] float32 material features by type
+  torch::Tensor boundary;      // [M, 3] float32 boundary positions (those near fluid become nodes)
 };
+
+// The fluid particles' state one frame on.
+struct NextState {
+  torch::Tensor position;      // [n, 3] float32
+  torch::Tensor oil_fraction;  // [n] float32
+};
+
+// The model's normalised outputs for the fluid nodes.
+struct NormalisedPrediction {
+  torch::Tensor acceleration;         // [n, 3]
+  torch::Tensor oil_fraction_change;  // [n]
+};
+
+// New oil fractions [n] from the old ones [n] and a predicted change [n]: the change less its
+// mean, clipped to [0, 1], with what the clipping took or added spread over the particles that
+// still have room, so the sum (the oil volume, every particle having the same rest volume) is
+// what it was to float precision.
+torch::Tensor conserving_fraction_update(const torch::Tensor& fraction,
+                                         const torch::Tensor& change);
 
 // Throws std::invalid_argument naming `where`, the tensor and its sizes when `nodes` does not
 // have the shapes and dtypes above (CPU tensors).
@@ -48,12 +69,17 @@ class LearnedSimulator {
   // Graph and features of a frame on the model's device; fluid nodes come first, in the order
   // of `nodes`. Checks the shapes and dtypes of `nodes`.
   GraphInput encode(const FrameNodes& nodes) const;
-  // Normalised acceleration of the fluid nodes [n, 3] (with autograd when enabled).
-  torch::Tensor predict_normalised(const FrameNodes& nodes);
+  // Normalised outputs for the fluid nodes (with autograd when enabled).
+  NormalisedPrediction predict(const FrameNodes& nodes);
+  // Normalised acceleration of the fluid nodes [n, 3] alone.
+  torch::Tensor predict_normalised(const FrameNodes& nodes) { return predict(nodes).acceleration; }
   torch::Tensor normalise_acceleration(const torch::Tensor& acceleration) const;
   torch::Tensor denormalise_acceleration(const torch::Tensor& normalised) const;
-  // Next positions [n, 3] of the fluid nodes (no autograd).
-  torch::Tensor next_position(const FrameNodes& nodes);
+  torch::Tensor normalise_fraction_change(const torch::Tensor& change) const;
+  torch::Tensor denormalise_fraction_change(const torch::Tensor& normalised) const;
+  // Next positions and oil fractions of the fluid nodes (no autograd).
+  NextState next_state(const FrameNodes& nodes);
+  torch::Tensor next_position(const FrameNodes& nodes) { return next_state(nodes).position; }
 
  private:
   std::shared_ptr<GraphModel> model_;

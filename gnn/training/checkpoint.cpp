@@ -10,7 +10,8 @@
 namespace gnn {
 namespace {
 
-constexpr const char* kFormat = "spill-gnn-checkpoint-1";
+// Format 2: models read the oil fraction and predict its change (format 1 read the static type).
+constexpr const char* kFormat = "spill-gnn-checkpoint-2";
 
 torch::Tensor text_tensor(const std::string& s) {
   return torch::from_blob(const_cast<char*>(s.data()), {int64_t(s.size())}, torch::kUInt8).clone();
@@ -57,6 +58,7 @@ std::string payload_checksum(GraphModel& model, const Normalisation& n) {
   add_tensor("vel_std", n.vel_std);
   add_tensor("acc_mean", n.acc_mean);
   add_tensor("acc_std", n.acc_std);
+  add_tensor("fraction_change_std", n.fraction_change_std);
   char text[17];
   std::snprintf(text, sizeof text, "%016llx", static_cast<unsigned long long>(h));
   return text;
@@ -87,6 +89,7 @@ void save_checkpoint(const std::string& path, LearnedSimulator& simulator,
   archive.write("vel_std", n.vel_std);
   archive.write("acc_mean", n.acc_mean);
   archive.write("acc_std", n.acc_std);
+  archive.write("fraction_change_std", n.fraction_change_std);
   archive.write("step", torch::tensor(state.step, torch::kInt64));
   archive.write("elapsed_s", torch::tensor(state.elapsed_s, torch::kFloat64));
   archive.write("sampler_state", text_tensor(state.sampler_state));
@@ -124,8 +127,12 @@ LoadedCheckpoint load_unchecked(const std::string& path,
   } catch (const std::exception& e) {  // TorchScript's parser reports a damaged pickle so
     throw CheckpointError(path + ": not a LibTorch checkpoint (or damaged): " + e.what());
   }
-  if (read_text(archive, "format", path) != kFormat)
-    throw CheckpointError(path + ": a checkpoint of another format version");
+  const std::string format = read_text(archive, "format", path);
+  if (format == "spill-gnn-checkpoint-1")
+    throw CheckpointError(path +
+                          ": a checkpoint of format 1, whose models read the static particle type "
+                          "instead of the oil fraction; retrain it with this version");
+  if (format != kFormat) throw CheckpointError(path + ": a checkpoint of another format version");
   const std::string name = read_text(archive, "model_name", path);
   if (expected_model && *expected_model != name)
     throw CheckpointError(path + ": a checkpoint of model \"" + name + "\", expected \"" +
@@ -165,7 +172,8 @@ LoadedCheckpoint load_unchecked(const std::string& path,
   for (auto [key, tensor] : {std::pair<const char*, torch::Tensor*>{"vel_mean", &n.vel_mean},
                              {"vel_std", &n.vel_std},
                              {"acc_mean", &n.acc_mean},
-                             {"acc_std", &n.acc_std}})
+                             {"acc_std", &n.acc_std},
+                             {"fraction_change_std", &n.fraction_change_std}})
     if (!archive.try_read(key, *tensor))
       throw CheckpointError(path + ": missing the normalisation statistic \"" + key + "\"");
   Bounds bounds{};

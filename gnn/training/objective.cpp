@@ -12,11 +12,19 @@ ObjectiveValue AccelerationMse::evaluate(const ModelOutput& output,
                                 std::to_string(predicted.size(0)) + " fluid rows, the batch has " +
                                 std::to_string(batch.target.size(0)) + " targets");
   auto acc = (predicted - batch.target).pow(2).index({batch.mask}).mean();
-  return {acc, {{"acc", acc}}};
+  if (!batch.fraction_target.defined() || fraction_weight_ == 0) return {acc, {{"acc", acc}}};
+  const auto change = output.oil_fraction_change.index({batch.graph.fluid});
+  if (change.sizes() != batch.fraction_target.sizes())
+    throw std::invalid_argument("acceleration_mse: the model predicts " +
+                                std::to_string(change.size(0)) +
+                                " oil fraction changes, the batch has " +
+                                std::to_string(batch.fraction_target.size(0)) + " targets");
+  auto frac = (change - batch.fraction_target).pow(2).index({batch.mask}).mean();
+  return {acc + fraction_weight_ * frac, {{"acc", acc}, {"frac", frac}}};
 }
 
-std::unique_ptr<TrainingObjective> make_objective(const GraphModel&) {
-  return std::make_unique<AccelerationMse>();
+std::unique_ptr<TrainingObjective> make_objective(const GraphModel&, double fraction_weight) {
+  return std::make_unique<AccelerationMse>(fraction_weight);
 }
 
 }  // namespace gnn

@@ -17,8 +17,9 @@ namespace gnn {
 // Sampled training frames, encoded as one graph.
 struct TrainingBatch {
   GraphInput graph;
-  torch::Tensor target;  // [fluid rows of the graph, 3] normalised acceleration
-  torch::Tensor mask;    // [fluid rows] bool: in the loss (active in the next frame)
+  torch::Tensor target;           // [fluid rows of the graph, 3] normalised acceleration
+  torch::Tensor mask;             // [fluid rows] bool: in the loss (active in the next frame)
+  torch::Tensor fraction_target;  // [fluid rows] normalised change of the oil fraction
 };
 
 struct ObjectiveValue {
@@ -36,14 +37,21 @@ class TrainingObjective {
 };
 
 // MODELS.md's L_acc: mean squared error of the normalised acceleration over the fluid particles
-// that are active in the next frame.
+// that are active in the next frame ("acc"), plus `fraction_weight` times the mean squared error
+// of the normalised change of the oil fraction over the same particles ("frac"): every model is a
+// surrogate of both what MTDF-SPH moves and how it moves oil between particles.
 class AccelerationMse : public TrainingObjective {
  public:
+  explicit AccelerationMse(double fraction_weight = 1.0) : fraction_weight_(fraction_weight) {}
   std::string name() const override { return "acceleration_mse"; }
   ObjectiveValue evaluate(const ModelOutput& output, const TrainingBatch& batch) const override;
+
+ private:
+  double fraction_weight_;
 };
 
-// The objective a model is trained with (acceleration MSE for GNS).
-std::unique_ptr<TrainingObjective> make_objective(const GraphModel& model);
+// The objective a model is trained with (acceleration and oil-fraction MSE for GNS and DPI-Nets);
+// `fraction_weight` is the training config's oil_fraction_loss_weight.
+std::unique_ptr<TrainingObjective> make_objective(const GraphModel& model, double fraction_weight);
 
 }  // namespace gnn

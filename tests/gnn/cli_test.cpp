@@ -6,6 +6,8 @@
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
 
 #include "tests/common/file_size_limit.h"
 #include "tests/gnn/tiny_dataset.h"
@@ -83,6 +85,59 @@ TEST(Cli, TrainRollOutAndEvaluateOnATinyDataset) {
   tiny::rewrite_split(dir / "data", "test", 20, true);
   EXPECT_EQ(run(infer + " eval" + ckpt + " --out " + (dir / "empty_eval").string()), 2);
   EXPECT_FALSE(fs::exists(dir / "empty_eval"));
+  fs::remove_all(dir);
+}
+
+// spill-infer compare: every model and the constant-velocity floor rolled out from the same
+// frames of the same trajectories, one row each; bad input exits 2 with nothing written.
+TEST(Cli, CompareWritesARowPerModelAndTheFloor) {
+  const fs::path dir = fs::temp_directory_path() / ("gnn_compare_" + std::to_string(getpid()));
+  fs::remove_all(dir);
+  tiny::write(dir / "data");
+  const std::string data = (dir / "data").string();
+  for (const char* model : {"gns", "dpi"})
+    ASSERT_EQ(run(std::string(SPILL_TRAIN_EXE) + " --config " + SPILL_SOURCE_DIR +
+                  "/configs/training/" + model + "_smoke.json --data " + data +
+                  " --threads 1 --set /steps=20 --out " + (dir / model).string()),
+              0)
+        << model;
+  const std::string compare =
+      std::string(SPILL_INFER_EXE) + " compare --data " + data + " --threads 1 --from 5 --frames 8";
+  const std::string both =
+      " --checkpoints " + (dir / "gns/last.pt").string() + " " + (dir / "dpi/last.pt").string();
+  ASSERT_EQ(run(compare + both + " --constant-velocity --out " + (dir / "out").string()), 0);
+  nlohmann::json result;
+  std::ifstream(dir / "out/comparison.json") >> result;
+  ASSERT_EQ(result["models"].size(), 3u);
+  const std::vector<std::string> names = {"gns", "dpi", "constant_velocity"};
+  for (size_t k = 0; k < 3; ++k) {
+    const auto& row = result["models"][k];
+    EXPECT_EQ(row["name"], names[k]);
+    EXPECT_EQ(row["model"], names[k]);
+    for (const char* key :
+         {"one_step_mse", "rollout_mse_5", "rollout_mse_all", "mmd", "kinetic_energy_error",
+          "seconds_per_frame", "seconds_per_simulated_second", "flops_per_particle"})
+      EXPECT_TRUE(row[key].is_number()) << names[k] << " " << key;
+    // 8 frames: no 10-frame figures, and the tiny dataset's scene has no river to measure.
+    EXPECT_TRUE(row["rollout_mse_10"].is_null());
+    EXPECT_TRUE(row["front_distance_error_m"].is_null());
+    EXPECT_TRUE(row["spread"].contains("rollout_mse_5"));
+  }
+  EXPECT_EQ(result["models"][2]["params"], 0);
+  EXPECT_EQ(result["models"][2]["flops_per_particle"], 0.0);
+  EXPECT_GT(result["models"][0]["params"].get<int64_t>(), 0);
+  EXPECT_EQ(result["trajectories"].size(), 1u);
+  EXPECT_TRUE(fs::exists(dir / "out/comparison.md"));
+  EXPECT_TRUE(fs::exists(dir / "out/comparison.png"));
+  EXPECT_EQ(run(compare + " --out " + (dir / "nothing").string()), 2);  // no model at all
+  EXPECT_EQ(run(compare + " --checkpoints " + (dir / "none.pt").string() + " --out " +
+                (dir / "missing").string()),
+            2);
+  std::ofstream(dir / "bad.pt") << "garbage";
+  EXPECT_EQ(run(compare + " --checkpoints " + (dir / "bad.pt").string() + " --out " +
+                (dir / "bad").string()),
+            2);
+  for (const char* out : {"nothing", "missing", "bad"}) EXPECT_FALSE(fs::exists(dir / out)) << out;
   fs::remove_all(dir);
 }
 

@@ -12,7 +12,7 @@ PyTorch way, independently of the C++ code and without its optimisations:
                a_i   = sum over edges into i of e_ij'         (index_add_)
                v_i'  = MLP([v_i, a_i]) + LayerNorm
                e_ij <- e_ij + e_ij',  v_i <- v_i + v_i'       (residuals)
-  decoder    MLP(v) to 3 outputs, no LayerNorm
+  decoder    MLP(v) to 4 outputs (acceleration, oil fraction change), no LayerNorm
   every MLP  Linear, ReLU, ..., Linear with `mlp_hidden_layers` hidden layers of width `latent`
 
 The C++ model splits the first Linear of each processor MLP into per-input pieces (the edge
@@ -25,7 +25,7 @@ It computes in float64 so that the difference to the C++ float32 result is the C
 Usage: python3 gns_reference.py IN OUT
   IN   torch::pickle_save'd dict: "config" (the model's JSON), "parameters" (name -> tensor, the
        C++ named_parameters), "inputs" (node_features, node_type, edge_index, edge_features)
-  OUT  torch.save'd [nodes, 3] float64 tensor: the network's output for every node
+  OUT  torch.save'd [nodes, 4] float64 tensor: the network's output for every node
 Needs Debian's python3-torch (PyTorch 1.13, CPU).
 """
 
@@ -73,7 +73,7 @@ class Gns(nn.Module):
         self.edge_encoder = mlp(edge_features, latent, latent, hidden, True)
         self.processor = nn.ModuleList(
             [InteractionNetwork(latent, hidden) for _ in range(config["layers"])])
-        self.decoder = mlp(latent, latent, 3, hidden, False)
+        self.decoder = mlp(latent, latent, 4, hidden, False)
 
     def forward(self, node_features, node_type, edge_index, edge_features):
         senders, receivers = edge_index[0], edge_index[1]

@@ -51,8 +51,7 @@ gnn::GraphInput make_graph(const std::shared_ptr<gnn::GraphModel>& model) {
                             1)
                    .to(torch::kFloat32) *
                kSpacing;
-  gnn::FrameNodes nodes{torch::stack(history, 1),
-                        torch::randint(gnn::kWater, gnn::kOil + 1, {cell.size(0)}, torch::kInt64),
+  gnn::FrameNodes nodes{torch::stack(history, 1), torch::rand({cell.size(0)}),
                         gnn::material_table(nlohmann::json::parse(
                             R"({"water": {"density": 1000, "viscosity": 0.001},
                                 "oil": {"density": 940, "viscosity": 0.004}})")),
@@ -63,8 +62,8 @@ gnn::GraphInput make_graph(const std::shared_ptr<gnn::GraphModel>& model) {
   m.acc_mean = torch::zeros({3});
   m.acc_std = torch::full({3}, 0.001f);
   const gnn::Bounds bounds{{{0, 0.5}, {0, 0.5}, {0, 0.5}}};
-  gnn::LearnedSimulator simulator(model, gnn::Normalisation::from_metadata(m, model->noise_std()),
-                                  bounds);
+  gnn::LearnedSimulator simulator(
+      model, gnn::Normalisation::from_metadata(m, model->noise_std(), 0.01), bounds);
   return simulator.encode(nodes);
 }
 
@@ -91,7 +90,7 @@ void write_bytes(const fs::path& file, const std::vector<char>& bytes) {
   out.write(bytes.data(), std::streamsize(bytes.size()));
 }
 
-// The Python reference's output [n, 3] (float64) for `parameters` on graph `g`, exchanged as
+// The Python reference's output [n, 4] (float64) for `parameters` on graph `g`, exchanged as
 // torch::pickle_save / torch.save files; undefined (with the failure recorded) if it fails.
 torch::Tensor reference_output(const std::string& python, const fs::path& dir,
                                const std::string& name, const std::string& config,
@@ -168,21 +167,26 @@ TEST(GnsReference, ForwardEqualsPlainPyTorchOnTheSameWeights) {
 
   auto reference = reference_output(python, dir, "reference", config, parameters, g);
   ASSERT_TRUE(reference.defined());
-  ASSERT_EQ(reference.sizes().vec(), std::vector<int64_t>({g.nodes(), 3}));
+  ASSERT_EQ(reference.sizes().vec(), std::vector<int64_t>({g.nodes(), 4}));
+  // Our decoder's 4 columns: the acceleration and the oil fraction's change.
+  auto head = [&] {
+    const gnn::ModelOutput out = model->forward(g, {});
+    return torch::cat({out.acceleration, out.oil_fraction_change.unsqueeze(1)}, 1);
+  };
 
   // Rollouts: eval mode without autograd, the fused and chunked path.
   model->eval();
   torch::Tensor inference;
   {
     torch::NoGradGuard no_grad;
-    inference = model->acceleration(g);
+    inference = head();
   }
   const double eval_difference = max_relative_difference(inference, reference);
   EXPECT_LE(eval_difference, kTolerance) << "eval mode, no autograd";
 
   // Training: train mode with autograd, the path with the split layers as separate products.
   model->train();
-  auto training = model->acceleration(g);
+  auto training = head();
   ASSERT_TRUE(training.requires_grad());
   const double train_difference = max_relative_difference(training, reference);
   EXPECT_LE(train_difference, kTolerance) << "train mode, autograd";

@@ -70,7 +70,7 @@ TEST(ModelContract, BadGraphInputsAreRefusedNamingTheTensorAndItsSizes) {
   auto g = good;
   g.node_features = torch::randn({50, gnn::kNodeFeatures - 1});
   expect_message([&] { model->acceleration(g); },
-                 {"gns forward", "node_features", "[*, 23]", "[50, 22]"});
+                 {"gns forward", "node_features", "[*, 24]", "[50, 23]"});
   g = good;
   g.edge_index = good.edge_index.to(torch::kInt32);
   expect_message([&] { model->acceleration(g); }, {"edge_index", "Long", "Int"});
@@ -126,7 +126,7 @@ TEST(ModelContract, FusedInferenceLeavesTheBlasThreadsAloneAndAgreesEitherWay) {
 // non-zero acceleration mean, so a normalised 0 is not a physical 0.
 gnn::Normalisation test_normalisation() {
   return {torch::tensor({0.001f, -0.002f, 0.0f}), torch::full({3}, 0.01f),
-          torch::tensor({0.0f, 0.0f, -0.001f}), torch::full({3}, 0.002f)};
+          torch::tensor({0.0f, 0.0f, -0.001f}), torch::full({3}, 0.002f), torch::full({1}, 0.01f)};
 }
 
 std::shared_ptr<gnn::GraphModel> small_dpi() {
@@ -222,7 +222,8 @@ TEST(TrainingObjective, AccelerationMseIsTheMaskedMeanSquareOverFluidRows) {
   batch.mask = torch::tensor({true, false, true});
   gnn::ModelOutput out;
   out.acceleration = torch::randn({4, 3});
-  const auto objective = gnn::make_objective(*small_gns());
+  out.oil_fraction_change = torch::randn({4});
+  const auto objective = gnn::make_objective(*small_gns(), 0.5);
   const gnn::ObjectiveValue v = objective->evaluate(out, batch);
   // Rows 0 and 3 of the output against targets 0 and 2 (row 2 is a boundary node, target 1 is
   // masked out): the mean over 2 x 3 squared differences.
@@ -230,8 +231,19 @@ TEST(TrainingObjective, AccelerationMseIsTheMaskedMeanSquareOverFluidRows) {
                          torch::stack({batch.target[0], batch.target[2]}))
                             .pow(2)
                             .mean();
-  EXPECT_NEAR(v.total.item<double>(), expected.item<double>(), 1e-6);
-  EXPECT_TRUE(v.terms.count("acc"));
+  EXPECT_NEAR(v.terms.at("acc").item<double>(), expected.item<double>(), 1e-6);
+  // The oil fraction's term over the same rows, weighted by 0.5 in the total.
+  batch.fraction_target = torch::randn({3});
+  const gnn::ObjectiveValue with_fraction = objective->evaluate(out, batch);
+  const auto expected_fraction =
+      (torch::stack({out.oil_fraction_change[0], out.oil_fraction_change[3]}) -
+       torch::stack({batch.fraction_target[0], batch.fraction_target[2]}))
+          .pow(2)
+          .mean();
+  EXPECT_NEAR(with_fraction.terms.at("frac").item<double>(), expected_fraction.item<double>(),
+              1e-6);
+  EXPECT_NEAR(with_fraction.total.item<double>(),
+              expected.item<double>() + 0.5 * expected_fraction.item<double>(), 1e-6);
   batch.target = torch::randn({2, 3});
   expect_message([&] { objective->evaluate(out, batch); }, {"3 fluid rows", "2 targets"});
 }

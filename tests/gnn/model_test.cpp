@@ -58,12 +58,15 @@ struct Tiny {
           {"model", "gns"}, {"latent", 16}, {"layers", 2}, {"mlp_hidden_layers", 1}}) const {
     auto model = gnn::make_model(config, "test");
     return std::make_unique<gnn::LearnedSimulator>(
-        model, gnn::Normalisation::from_metadata(metadata, model->noise_std()), metadata.bounds);
+        model,
+        gnn::Normalisation::from_metadata(metadata, model->noise_std(),
+                                          gnn::oil_fraction_change_rms({trajectory})),
+        metadata.bounds);
   }
   gnn::FrameNodes frame(int64_t f) const {
     auto ids = gnn::active_ids(trajectory, f);
     return {gnn::position_history(trajectory, f, ids, metadata.frame_dt),
-            trajectory.particle_type.index_select(0, ids), trajectory.material,
+            trajectory.oil_fraction[f].index_select(0, ids), trajectory.material,
             trajectory.boundary};
   }
 };
@@ -412,10 +415,10 @@ TEST(InProcess, RecorderTensorsTrainAndRollOutWithoutAFile) {
   m.acc_std = torch::full({3}, 0.001f);
   auto model =
       gnn::make_model({{"model", "gns"}, {"latent", 16}, {"layers", 2}, {"radius", 0.08}}, "test");
-  gnn::LearnedSimulator simulator(model, gnn::Normalisation::from_metadata(m, 0), m.bounds);
+  gnn::LearnedSimulator simulator(model, gnn::Normalisation::from_metadata(m, 0, 0.01), m.bounds);
   auto ids = gnn::active_ids(t, 6);
   gnn::FrameNodes nodes{gnn::position_history(t, 6, ids, m.frame_dt),
-                        t.particle_type.index_select(0, ids), t.material, t.boundary};
+                        t.oil_fraction[6].index_select(0, ids), t.material, t.boundary};
   auto loss = simulator.predict_normalised(nodes).pow(2).mean();
   loss.backward();
   EXPECT_TRUE(model->parameters()[0].grad().defined());

@@ -1,0 +1,46 @@
+#include "gnn/eval/spill_measures.h"
+
+#include "sph/app/scene_runner.h"
+#include "sph/core/lattice.h"
+#include "sph/core/simulation.h"
+
+namespace gnn {
+
+sph::FluidParticles fluid_of_frame(const torch::Tensor& position, const torch::Tensor& active,
+                                   const torch::Tensor& oil_fraction, double particle_volume) {
+  const auto ids = active.nonzero().view(-1);
+  const auto x = position.index_select(0, ids).to(torch::kFloat64).contiguous();
+  const auto a = oil_fraction.index_select(0, ids).to(torch::kFloat64).contiguous();
+  const auto n = sph::Index(ids.size(0));
+  sph::FluidParticles f;
+  f.for_each_array([&](const char*, auto& values, bool) { values.resize(size_t(n)); });
+  const double* xp = x.data_ptr<double>();
+  const double* ap = a.data_ptr<double>();
+  for (sph::Index i = 0; i < n; ++i) {
+    f.position[size_t(i)] =
+        sph::Vec3(sph::Real(xp[3 * i]), sph::Real(xp[3 * i + 1]), sph::Real(xp[3 * i + 2]));
+    f.velocity[size_t(i)] = sph::Vec3::Zero();
+    f.acceleration[size_t(i)] = sph::Vec3::Zero();
+    f.oil_fraction[size_t(i)] = sph::Real(ap[i]);
+    f.rest_volume[size_t(i)] = sph::Real(particle_volume);
+    f.id[size_t(i)] = i;
+  }
+  f.active = n;
+  return f;
+}
+
+SpillScene::SpillScene(const Trajectory& t) {
+  if (!t.scene.is_object() || t.scene.empty())
+    throw DatasetError(t.source +
+                       ": the dataset's metadata.json has no \"scene\" to measure the spill with");
+  scene_ = sph::parse_scene(t.scene, t.source + " (the dataset's scene)").config;
+  cell_ = double(scene_.particle_diameter());
+  particle_volume_ = double(sph::lattice_rest_volume(
+      sph::kernel_kind(scene_.kernel), scene_.support_radius(), scene_.particle_diameter()));
+}
+
+std::unique_ptr<sph::SpillMetrics> SpillScene::river_metrics() const {
+  return sph::river_spill_metrics(scene_);
+}
+
+}  // namespace gnn

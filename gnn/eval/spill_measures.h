@@ -1,0 +1,40 @@
+#pragma once
+// The oil measures of spill.json on recorded or predicted frames, by the simulator's own code
+// (sph::measure_slick and sph::SpillMetrics), so that what `spill-infer eval` and `compare` score
+// is exactly what a run's spill.json reports: a particle is oil when its oil fraction is at least
+// 1/2, the slick is the top-view cells a particle diameter wide that hold oil.
+
+#include <torch/torch.h>
+
+#include <memory>
+
+#include "gnn/data/dataset.h"
+#include "sph/core/particle_set.h"
+#include "sph/core/scene.h"
+#include "sph/river/spill_metrics.h"
+
+namespace gnn {
+
+// One frame's active particles (positions [N, 3], active [N], oil fractions [N]) as the
+// simulator's particle set, every particle of rest volume `particle_volume`; arrays the spill
+// measures do not read are zero.
+sph::FluidParticles fluid_of_frame(const torch::Tensor& position, const torch::Tensor& active,
+                                   const torch::Tensor& oil_fraction, double particle_volume);
+
+// What the scene of a trajectory says about its particles and its river.
+class SpillScene {
+ public:
+  // Throws DatasetError naming `t.source` when the trajectory carries no scene.
+  explicit SpillScene(const Trajectory& t);
+  double particle_volume() const { return particle_volume_; }
+  double cell() const { return cell_; }  // the particle diameter, m
+  // Fresh per-frame river spill measures (slick area, front, banks), as spill.json's; null when
+  // the scene is not a river with a leak.
+  std::unique_ptr<sph::SpillMetrics> river_metrics() const;
+
+ private:
+  sph::SceneConfig scene_;
+  double particle_volume_ = 0, cell_ = 0;
+};
+
+}  // namespace gnn

@@ -1,0 +1,296 @@
+// spill-infer compare: every model rolled out from the same frames of the same trajectories,
+// scored alike, in one table and one picture (the paper's Table 5 and Fig. 13-17).
+#include <cstdio>
+#include <filesystem>
+#include <map>
+#include <sstream>
+
+#include "common/checked_file.h"
+#include "common/exit_codes.h"
+#include "common/image_writer.h"
+#include "common/output_folder.h"
+#include "common/progress.h"
+#include "gnn/data/frame_window.h"
+#include "gnn/runtime/runtime.h"
+#include "gnn/training/checkpoint.h"
+#include "infer/commands.h"
+#include "infer/map_views.h"
+#include "infer/trajectory_scores.h"
+
+namespace infer {
+namespace fs = std::filesystem;
+
+namespace {
+
+struct ComparedModel {
+  std::string name, source;  // row name; checkpoint file, or "built in"
+  std::unique_ptr<gnn::LearnedSimulator> simulator;
+};
+
+// A run's folder names its checkpoint (RUN/last.pt -> RUN); other files go by their stem.
+std::string model_name(const std::string& checkpoint) {
+  const fs::path p(checkpoint);
+  if (p.filename() == "last.pt" && p.has_parent_path() && !p.parent_path().filename().empty())
+    return p.parent_path().filename().string();
+  return p.stem().string();
+}
+
+std::vector<ComparedModel> load_models(const CompareOptions& o, const gnn::DatasetMetadata& m) {
+  std::vector<ComparedModel> models;
+  std::map<std::string, int> seen;
+  for (const auto& file : o.checkpoints) {
+    gnn::LoadedCheckpoint c = gnn::load_checkpoint(file);
+    gnn::check_data_fits(c.data, m, file);
+    std::string name = model_name(file);
+    if (seen[name]++ > 0) name += "_" + std::to_string(seen[name]);
+    models.push_back({name, file, std::move(c.simulator)});
+  }
+  if (o.constant_velocity) {
+    // The floor needs no training: built here with the dataset's own statistics.
+    auto model = gnn::make_model(
+        {{"model", "constant_velocity"}, {"radius", m.connectivity_radius}}, "--constant-velocity");
+    models.push_back({"constant_velocity", "built in",
+                      std::make_unique<gnn::LearnedSimulator>(
+                          model, gnn::Normalisation::from_metadata(m, 0.0, 0.0), m.bounds)});
+  }
+  for (auto& model : models) {
+    model.simulator->to(gnn::parse_device(o.device));
+    model.simulator->model().eval();
+  }
+  return models;
+}
+
+// Mean and spread over trajectories of one figure; trajectories without it are left out.
+struct Figure {
+  std::vector<double> values;
+  void add(const std::optional<double>& v) {
+    if (v) values.push_back(*v);
+  }
+};
+
+// The value at frame h of a per-frame series (1-based), if the rollout reached it.
+std::optional<double> at_horizon(const std::vector<double>& series, int64_t h) {
+  if (int64_t(series.size()) < h) return std::nullopt;
+  return series[size_t(h - 1)];
+}
+
+const char* const kFigureOrder[] = {"one_step_mse",
+                                    "rollout_mse_5",
+                                    "rollout_mse_10",
+                                    "rollout_mse_20",
+                                    "rollout_mse_50",
+                                    "rollout_mse_all",
+                                    "mmd",
+                                    "kinetic_energy_error",
+                                    "oil_iou_10",
+                                    "oil_iou_20",
+                                    "oil_iou_50",
+                                    "slick_area_error",
+                                    "front_distance_error_m",
+                                    "bank_contact_time_error_s",
+                                    "seconds_per_frame",
+                                    "seconds_per_simulated_second"};
+
+std::map<std::string, Figure> figures_of(const std::vector<TrajectoryScores>& scores,
+                                         double frame_dt) {
+  std::map<std::string, Figure> f;
+  for (const auto& s : scores) {
+    f["one_step_mse"].add(s.one_step_mse);
+    for (int64_t h : {5, 10, 20, 50}) {
+      f["rollout_mse_" + std::to_string(h)].add(at_horizon(s.mse, h));
+      if (h >= 10) f["oil_iou_" + std::to_string(h)].add(at_horizon(s.iou, h));
+    }
+    f["rollout_mse_all"].add(mean(s.mse));
+    f["mmd"].add(mean(s.mmd));
+    f["kinetic_energy_error"].add(mean(s.ke_error));
+    f["slick_area_error"].add(slick_area_error(s));
+    f["front_distance_error_m"].add(front_distance_error(s));
+    f["bank_contact_time_error_s"].add(bank_contact_time_error(s));
+    f["seconds_per_frame"].add(s.wall_s_per_frame);
+    f["seconds_per_simulated_second"].add(s.wall_s_per_frame / frame_dt);
+  }
+  return f;
+}
+
+std::string number(double v) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.3g", v);
+  return text;
+}
+
+std::string cell_text(const Figure& f) {
+  if (f.values.empty()) return "-";
+  const std::string m = number(mean(f.values));
+  return f.values.size() < 2 ? m : m + " ± " + number(spread(f.values));
+}
+
+}  // namespace
+
+void run_compare(const CompareOptions& o) {
+  if (o.checkpoints.empty() && !o.constant_velocity)
+    throw common::InputError("compare: give --checkpoints, --constant-velocity or both");
+  common::OutputFolderPolicy policy;
+  policy.markers = {"comparison.json", "comparison.md"};
+  policy.replace = true;
+  policy.inputs = {o.data_dir};
+  for (const auto& c : o.checkpoints) policy.inputs.emplace_back(c);
+  policy.log = o.log;
+  common::OutputFolder output(o.out_dir, policy);
+
+  const gnn::DatasetMetadata m =
+      gnn::read_metadata((fs::path(o.data_dir) / "metadata.json").string());
+  std::vector<ComparedModel> models = load_models(o, m);
+  const std::vector<gnn::Trajectory> trajectories = gnn::read_split(o.data_dir, o.split, m);
+  if (trajectories.empty())
+    throw gnn::DatasetError(o.data_dir + "/" + o.split + ".h5: no trajectories");
+  std::vector<int64_t> frames;
+  std::vector<std::unique_ptr<gnn::SpillScene>> scenes;
+  for (const auto& t : trajectories) {
+    const int64_t available = t.frames() - 1 - o.from;
+    if (o.from < 0 || available < 1)
+      throw common::InputError("--from " + std::to_string(o.from) + ": " + t.source + " has " +
+                               std::to_string(t.frames()) + " frames");
+    frames.push_back(o.frames > 0 ? std::min<int64_t>(o.frames, available) : available);
+    scenes.push_back(spill_scene_of(t, o.log));
+  }
+
+  std::unique_ptr<common::ProgressReporter> progress;
+  if (o.log)
+    progress = std::make_unique<common::ProgressReporter>(
+        *o.log, false, long(models.size() * trajectories.size()), "compare");
+  nlohmann::json rows = nlohmann::json::array();
+  std::vector<std::map<std::string, Figure>> figures;
+  std::vector<gnn::RolloutResult> pictured;  // each model's rollout of the first trajectory
+  long done = 0;
+  for (auto& model : models) {
+    gnn::LearnedSimulator& sim = *model.simulator;
+    const gnn::RuntimeSettings mix =
+        o.blas_threads > 0 ? gnn::RuntimeSettings{o.threads, o.blas_threads}
+                           : gnn::inference_runtime(o.threads, sim.model().infers_in_chunks());
+    gnn::configure_runtime(mix);
+    std::vector<TrajectoryScores> scores;
+    for (size_t k = 0; k < trajectories.size(); ++k) {
+      gnn::RolloutResult kept;
+      scores.push_back(score_rollout(sim, trajectories[k], m, scenes[k].get(), o.from, frames[k],
+                                     k == 0 ? &kept : nullptr));
+      if (k == 0) pictured.push_back(std::move(kept));
+      if (progress) progress->update(++done, model.name + " " + trajectories[k].source);
+    }
+    // Size of the model on the graph of the first trajectory's starting frame.
+    const gnn::Trajectory& t0 = trajectories.front();
+    const auto ids = gnn::active_ids(t0, o.from);
+    const gnn::GraphInput g =
+        sim.encode({gnn::position_history(t0, o.from, ids, m.frame_dt),
+                    t0.oil_fraction[o.from].index_select(0, ids), t0.material, t0.boundary});
+    const double flops = sim.model().flops(g.nodes(), g.edges());
+    int64_t params = 0;
+    for (const auto& p : sim.model().parameters()) params += p.numel();
+    figures.push_back(figures_of(scores, m.frame_dt));
+    nlohmann::json row = {{"name", model.name},
+                          {"model", sim.model().name()},
+                          {"checkpoint", model.source},
+                          {"params", params},
+                          {"flops_per_particle", flops >= 0 && ids.size(0) > 0
+                                                     ? nlohmann::json(flops / double(ids.size(0)))
+                                                     : nlohmann::json(nullptr)},
+                          {"threads", {{"libtorch", mix.threads}, {"blas", mix.blas_threads}}}};
+    nlohmann::json spreads = nlohmann::json::object();
+    for (const char* key : kFigureOrder) {
+      const Figure& f = figures.back()[key];
+      row[key] = f.values.empty() ? nlohmann::json(nullptr) : nlohmann::json(mean(f.values));
+      spreads[key] = f.values.empty() ? nlohmann::json(nullptr) : nlohmann::json(spread(f.values));
+    }
+    row["spread"] = spreads;
+    rows.push_back(row);
+  }
+  if (progress) progress->finish("");
+
+  std::vector<double> sph_rates;
+  nlohmann::json sources = nlohmann::json::array();
+  for (size_t k = 0; k < trajectories.size(); ++k) {
+    if (trajectories[k].sph_seconds_per_frame > 0)
+      sph_rates.push_back(trajectories[k].sph_seconds_per_frame / m.frame_dt);
+    sources.push_back({{"source", trajectories[k].source}, {"frames", frames[k]}});
+  }
+  const nlohmann::json sph = {
+      {"seconds_per_simulated_second",
+       sph_rates.empty() ? nlohmann::json(nullptr) : nlohmann::json(mean(sph_rates))},
+      {"spread", sph_rates.empty() ? nlohmann::json(nullptr) : nlohmann::json(spread(sph_rates))},
+      {"note", "wall time of the SPH that generated the data, as recorded in metadata.json"}};
+  const nlohmann::json result = {
+      {"data", o.data_dir},
+      {"split", o.split},
+      {"from_frame", o.from},
+      {"frame_dt", m.frame_dt},
+      {"threads", o.threads},
+      {"units",
+       "each figure is the mean over the trajectories (its standard deviation under 'spread'); "
+       "one_step_mse and rollout_mse_H: squared position error (m^2) H frames after from_frame "
+       "('all': mean over every rollout frame); mmd: squared maximum mean discrepancy of the "
+       "fluid clouds, mean over frames; kinetic_energy_error: |KE_pred - KE_true| / KE_true, "
+       "mean over frames; oil_iou_H: top-view IoU of the oil cells H frames on; "
+       "slick_area_error: |A_pred - A_true| / A_true, mean over frames; front_distance_error_m: "
+       "|front_pred - front_true|, mean over frames; bank_contact_time_error_s: |t_pred - "
+       "t_true| of each bank's first contact (a bank touched by one side only: the time from "
+       "that contact to the rollout's end), mean over banks. Oil is a particle whose oil "
+       "fraction is at least 1/2; slick, front and banks are spill.json's measures. "
+       "seconds_per_simulated_second: wall time per frame (graph building included) over "
+       "frame_dt; null: not defined for this data (e.g. no river, no bank touched)"},
+      {"models", rows},
+      {"sph", sph},
+      {"trajectories", sources}};
+  const fs::path out = output.staging();
+  common::write_file_atomically((out / "comparison.json").string(), result.dump(2) + "\n");
+
+  std::ostringstream md;
+  md << "# Learned simulators compared\n\n"
+     << trajectories.size() << " trajectories of `" << o.data_dir << "` (" << o.split
+     << " split), each rolled out from frame " << o.from << " (frames " << m.frame_dt
+     << " s apart) on " << o.threads << " threads; mean ± standard deviation over trajectories. "
+     << "Units and definitions: `comparison.json`, key `units`. "
+     << "`comparison.png`: the first trajectory seen from above (flow down the picture), "
+     << "one column per moment; the first row is the simulator (SPH), then one row per model in "
+     << "the order of this table; oil drawn where a particle's oil fraction is at least 1/2.\n\n";
+  md << "| model | params | one-step MSE (m²) | MSE @5 | MSE @10 | MSE @20 | MSE @50 | oil IoU "
+        "@10 | oil IoU @20 | oil IoU @50 | slick area error | front error (m) | bank contact "
+        "error (s) | s per frame | s per simulated s |\n";
+  md << "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+  for (size_t k = 0; k < models.size(); ++k) {
+    auto& f = figures[k];
+    md << "| " << models[k].name << " (" << rows[k]["model"].get<std::string>() << ") | "
+       << rows[k]["params"].get<int64_t>() << " | " << cell_text(f["one_step_mse"]) << " | "
+       << cell_text(f["rollout_mse_5"]) << " | " << cell_text(f["rollout_mse_10"]) << " | "
+       << cell_text(f["rollout_mse_20"]) << " | " << cell_text(f["rollout_mse_50"]) << " | "
+       << cell_text(f["oil_iou_10"]) << " | " << cell_text(f["oil_iou_20"]) << " | "
+       << cell_text(f["oil_iou_50"]) << " | " << cell_text(f["slick_area_error"]) << " | "
+       << cell_text(f["front_distance_error_m"]) << " | "
+       << cell_text(f["bank_contact_time_error_s"]) << " | " << cell_text(f["seconds_per_frame"])
+       << " | " << cell_text(f["seconds_per_simulated_second"]) << " |\n";
+  }
+  Figure sph_figure{sph_rates};
+  md << "| SPH (the data) | - | - | - | - | - | - | - | - | - | - | - | - | - | "
+     << cell_text(sph_figure) << " |\n";
+  common::write_file_atomically((out / "comparison.md").string(), md.str());
+
+  // Six moments of the first trajectory: truth, then each model.
+  const gnn::Trajectory& t0 = trajectories.front();
+  const MapViewRenderer renderer(t0, m);
+  std::vector<int64_t> moments;
+  for (int i = 0; i < 6; ++i) moments.push_back((frames[0] * i + 2) / 5);
+  std::vector<std::vector<common::RgbImage>> grid(1 + models.size());
+  for (int64_t k : moments) {
+    const int64_t f = std::min(k, frames[0]);
+    grid[0].push_back(renderer.render(t0.position[o.from + f], t0.active[o.from + f],
+                                      t0.oil_fraction[o.from + f]));
+    for (size_t j = 0; j < models.size(); ++j)
+      grid[1 + j].push_back(renderer.render(pictured[j].position[f], pictured[j].active[f],
+                                            pictured[j].oil_fraction[f]));
+  }
+  common::write_png((out / "comparison.png").string(), image_grid(grid));
+  output.commit();
+  if (o.log)
+    *o.log << models.size() << " models compared on " << trajectories.size()
+           << " trajectories; written to " << output.target().string() << "\n";
+}
+
+}  // namespace infer

@@ -1,0 +1,32 @@
+#pragma once
+// Top views (river map view: flow down the picture) of recorded or predicted frames, and a grid
+// to lay them out in: truth beside prediction for a rollout, a row per model for a comparison.
+// A particle is drawn as oil when its oil fraction at that frame is at least 1/2.
+
+#include <torch/torch.h>
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "common/image_writer.h"
+#include "gnn/data/dataset.h"
+
+namespace infer {
+
+class MapViewRenderer {
+ public:
+  MapViewRenderer(const gnn::Trajectory& trajectory, const gnn::DatasetMetadata& metadata,
+                  int width = 480);
+  // positions [N, 3], active [N] bool and oil fractions [N] of one frame.
+  common::RgbImage render(const torch::Tensor& position, const torch::Tensor& active,
+                          const torch::Tensor& oil_fraction) const;
+
+ private:
+  std::shared_ptr<common::FrameRenderer> renderer_;
+};
+
+// `rows` of images on a white page, `gap` pixels apart; each cell as large as the largest image.
+common::RgbImage image_grid(const std::vector<std::vector<common::RgbImage>>& rows, int gap = 8);
+
+}  // namespace infer

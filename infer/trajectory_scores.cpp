@@ -1,0 +1,163 @@
+#include "infer/trajectory_scores.h"
+
+#include <cmath>
+#include <numeric>
+
+#include "gnn/data/frame_window.h"
+#include "gnn/eval/metrics.h"
+#include "sph/river/slick_shape.h"
+
+namespace infer {
+
+namespace {
+
+// Velocities (m/s) between frames k-1 and k of particles active in both.
+torch::Tensor frame_velocity(const torch::Tensor& position, const torch::Tensor& active, int64_t k,
+                             double dt, torch::Tensor& both) {
+  both = active[k] & active[k - 1];
+  return (position[k] - position[k - 1]) / dt;
+}
+
+// The spill measures of frames 1..F of one side (truth or prediction).
+struct OilSeries {
+  std::vector<double> area, front;
+  std::optional<double> bank[2];
+};
+
+OilSeries oil_series(const gnn::SpillScene& scene, const torch::Tensor& position,
+                     const torch::Tensor& active, const torch::Tensor& fraction,
+                     const torch::Tensor& time) {
+  OilSeries out;
+  auto river = scene.river_metrics();
+  const double t0 = time[0].item<double>();
+  for (int64_t k = 0; k < position.size(0); ++k) {
+    const sph::FluidParticles fluid =
+        gnn::fluid_of_frame(position[k], active[k], fraction[k], scene.particle_volume());
+    const double t = time[k].item<double>() - t0;
+    if (river) {
+      const sph::SpillFrame& f = river->measure(fluid, t, 0.0);
+      if (f.left_bank_m > 0 && !out.bank[0]) out.bank[0] = t;
+      if (f.right_bank_m > 0 && !out.bank[1]) out.bank[1] = t;
+      if (k > 0) {
+        out.area.push_back(f.slick_area_m2);
+        out.front.push_back(f.front_distance_m);
+      }
+    } else if (k > 0) {
+      out.area.push_back(sph::measure_slick(fluid, sph::Real(scene.cell())).area_m2);
+    }
+  }
+  return out;
+}
+
+}  // namespace
+
+TrajectoryScores score_rollout(gnn::LearnedSimulator& sim, const gnn::Trajectory& t,
+                               const gnn::DatasetMetadata& m, const gnn::SpillScene* scene,
+                               int64_t from, int64_t frames, gnn::RolloutResult* kept) {
+  TrajectoryScores s;
+  std::vector<int64_t> one_step_frames;
+  const int64_t first = gnn::kWindow - 1, last = t.frames() - 2;
+  const int64_t stride = std::max<int64_t>(1, (last - first + 1) / 20);
+  for (int64_t f = first; f <= last; f += stride) one_step_frames.push_back(f);
+  s.one_step_mse = gnn::one_step_position_mse(sim, t, one_step_frames, m.frame_dt);
+
+  auto r = gnn::rollout(sim, t, from, frames, m.frame_dt);
+  auto truth = t.position.slice(0, from, from + frames + 1);
+  auto truth_active = t.active.slice(0, from, from + frames + 1);
+  auto truth_fraction = t.oil_fraction.slice(0, from, from + frames + 1);
+  const double cell = 2 * m.particle_radius;
+  // Oil is what each side's oil fraction says at that frame (spill.json's rule), not the type a
+  // particle was emitted as: the simulator moves oil between particles, and so does the model.
+  const auto truth_oil = truth_fraction >= gnn::kOilFractionThreshold;
+  const auto predicted_oil = r.oil_fraction >= gnn::kOilFractionThreshold;
+  for (int64_t k = 1; k <= frames; ++k) {
+    auto active = r.active[k] & truth_active[k];
+    s.mse.push_back(gnn::position_mse(r.position[k], truth[k], active));
+    s.mmd.push_back(gnn::mmd_rbf(r.position[k].index({active}), truth[k].index({active}),
+                                 m.connectivity_radius));
+    torch::Tensor both_p, both_t;
+    auto vp = frame_velocity(r.position, r.active, k, m.frame_dt, both_p);
+    auto vt = frame_velocity(truth, truth_active, k, m.frame_dt, both_t);
+    const double ke_p = gnn::mean_kinetic_energy(vp, both_p & both_t);
+    const double ke_t = gnn::mean_kinetic_energy(vt, both_p & both_t);
+    s.ke_error.push_back(ke_t > 0 ? std::abs(ke_p - ke_t) / ke_t : 0.0);
+    s.iou.push_back(
+        gnn::top_view_iou(r.position[k].index({active & predicted_oil[k]}).slice(1, 0, 2),
+                          truth[k].index({active & truth_oil[k]}).slice(1, 0, 2), cell));
+  }
+  const auto time = t.time.slice(0, from, from + frames + 1);
+  s.rollout_seconds = (time[frames] - time[0]).item<double>();
+  if (scene) {
+    const OilSeries true_oil = oil_series(*scene, truth, truth_active, truth_fraction, time);
+    const OilSeries predicted = oil_series(*scene, r.position, r.active, r.oil_fraction, time);
+    s.slick_area_true = true_oil.area;
+    s.slick_area_predicted = predicted.area;
+    s.front_true = true_oil.front;
+    s.front_predicted = predicted.front;
+    for (int b = 0; b < 2; ++b) {
+      s.bank_true[b] = true_oil.bank[b];
+      s.bank_predicted[b] = predicted.bank[b];
+    }
+  }
+  s.wall_s_per_frame =
+      std::accumulate(r.frame_seconds.begin(), r.frame_seconds.end(), 0.0) / double(frames);
+  s.sph_seconds_per_frame = t.sph_seconds_per_frame;
+  if (kept) *kept = std::move(r);
+  return s;
+}
+
+std::optional<double> slick_area_error(const TrajectoryScores& s) {
+  std::vector<double> errors;
+  for (size_t k = 0; k < s.slick_area_true.size(); ++k)
+    if (s.slick_area_true[k] > 0)
+      errors.push_back(std::abs(s.slick_area_predicted[k] - s.slick_area_true[k]) /
+                       s.slick_area_true[k]);
+  if (errors.empty()) return std::nullopt;
+  return mean(errors);
+}
+
+std::optional<double> front_distance_error(const TrajectoryScores& s) {
+  if (s.front_true.empty()) return std::nullopt;
+  std::vector<double> errors;
+  for (size_t k = 0; k < s.front_true.size(); ++k)
+    errors.push_back(std::abs(s.front_predicted[k] - s.front_true[k]));
+  return mean(errors);
+}
+
+std::optional<double> bank_contact_time_error(const TrajectoryScores& s) {
+  std::vector<double> errors;
+  for (int b = 0; b < 2; ++b) {
+    if (s.bank_true[b] && s.bank_predicted[b])
+      errors.push_back(std::abs(*s.bank_predicted[b] - *s.bank_true[b]));
+    else if (s.bank_true[b] || s.bank_predicted[b])
+      errors.push_back(s.rollout_seconds -
+                       (s.bank_true[b] ? *s.bank_true[b] : *s.bank_predicted[b]));
+  }
+  if (errors.empty()) return std::nullopt;
+  return mean(errors);
+}
+
+std::unique_ptr<gnn::SpillScene> spill_scene_of(const gnn::Trajectory& t, std::ostream* log) {
+  try {
+    return std::make_unique<gnn::SpillScene>(t);
+  } catch (const std::exception& e) {
+    if (log)
+      *log << "note: slick area, front and bank measures left out for " << t.source << ": "
+           << e.what() << "\n";
+    return nullptr;
+  }
+}
+
+double mean(const std::vector<double>& v) {
+  return v.empty() ? 0.0 : std::accumulate(v.begin(), v.end(), 0.0) / double(v.size());
+}
+
+double spread(const std::vector<double>& v) {
+  if (v.size() < 2) return 0.0;
+  const double m = mean(v);
+  double sum = 0;
+  for (double x : v) sum += (x - m) * (x - m);
+  return std::sqrt(sum / double(v.size() - 1));
+}
+
+}  // namespace infer

@@ -1,0 +1,57 @@
+#pragma once
+// How well one rollout of a learned simulator matches the recording it replays, frame by frame:
+// what `spill-infer eval` and `compare` report. Position error, MMD, kinetic energy and the oil
+// footprint's IoU, and the responder's measures (slick area, front distance, first bank contact)
+// computed for the truth and the prediction with the simulator's own spill.json code
+// (gnn/eval/spill_measures.h).
+
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <ostream>
+#include <vector>
+
+#include "gnn/data/dataset.h"
+#include "gnn/eval/rollout.h"
+#include "gnn/eval/spill_measures.h"
+#include "gnn/models/learned_simulator.h"
+
+namespace infer {
+
+struct TrajectoryScores {
+  double one_step_mse = 0;
+  std::vector<double> mse, mmd, ke_error, iou;  // per rollout frame 1..F
+  // Per rollout frame 1..F (empty without the dataset's scene): slick area (m^2) of the
+  // recording and of the prediction.
+  std::vector<double> slick_area_true, slick_area_predicted;
+  // River scenes only: the leading edge downstream of the leak (m) per frame 1..F, and the first
+  // time (s after the rollout's start) each bank (left, right) was touched, if it was.
+  std::vector<double> front_true, front_predicted;
+  std::optional<double> bank_true[2], bank_predicted[2];
+  double rollout_seconds = 0;  // simulated seconds the rollout spans
+  double wall_s_per_frame = 0, sph_seconds_per_frame = 0;
+};
+
+// Rolls `simulator` out over frames from+1 .. from+frames of `t` and scores it; `scene` (may be
+// null) gives the particle volume and the river for the oil measures. `kept` receives the
+// rollout when given.
+TrajectoryScores score_rollout(gnn::LearnedSimulator& simulator, const gnn::Trajectory& t,
+                               const gnn::DatasetMetadata& m, const gnn::SpillScene* scene,
+                               int64_t from, int64_t frames, gnn::RolloutResult* kept = nullptr);
+
+// Responder figures of one trajectory's scores (absent when it has none of that kind):
+// mean |A_pred - A_true| / A_true over frames with a slick; mean |front_pred - front_true| (m);
+// mean over banks of |t_pred - t_true| (s), a bank touched by one side only counting the time
+// from that contact to the end of the rollout (a lower bound of the error).
+std::optional<double> slick_area_error(const TrajectoryScores& s);
+std::optional<double> front_distance_error(const TrajectoryScores& s);
+std::optional<double> bank_contact_time_error(const TrajectoryScores& s);
+
+// The trajectory's scene for the oil measures; null, with a line on `log` saying why the
+// responder measures are left out, when the dataset carries no scene the simulator accepts.
+std::unique_ptr<gnn::SpillScene> spill_scene_of(const gnn::Trajectory& t, std::ostream* log);
+
+double mean(const std::vector<double>& values);
+double spread(const std::vector<double>& values);  // standard deviation, 0 for fewer than 2
+
+}  // namespace infer
