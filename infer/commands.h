@@ -16,6 +16,7 @@ struct CommonOptions {
   int threads = 2;
   int blas_threads = 0;        // 0: the measured best split for the model (gnn::inference_runtime)
   std::string device = "cpu";  // where the model runs; the data pipeline stays on the CPU
+  int relax = 0;               // iterations of the SPH density correction after each learned frame
 };
 
 struct RolloutOptions {
@@ -45,6 +46,7 @@ struct CompareOptions {
   int threads = 2;
   int blas_threads = 0;  // 0: the measured best split for each model
   std::string device = "cpu";
+  int relax = 0;  // iterations of the SPH density correction after each learned frame
   std::ostream* log = nullptr;
 };
 

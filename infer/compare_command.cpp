@@ -88,6 +88,8 @@ const char* const kFigureOrder[] = {"one_step_mse",
                                     "slick_area_error",
                                     "front_distance_error_m",
                                     "bank_contact_time_error_s",
+                                    "compression_mean",
+                                    "compression_p95",
                                     "seconds_per_frame",
                                     "seconds_per_simulated_second"};
 
@@ -106,6 +108,10 @@ std::map<std::string, Figure> figures_of(const std::vector<TrajectoryScores>& sc
     f["slick_area_error"].add(slick_area_error(s));
     f["front_distance_error_m"].add(front_distance_error(s));
     f["bank_contact_time_error_s"].add(bank_contact_time_error(s));
+    if (!s.compression_mean.empty()) {
+      f["compression_mean"].add(mean(s.compression_mean));
+      f["compression_p95"].add(mean(s.compression_p95));
+    }
     f["seconds_per_frame"].add(s.wall_s_per_frame);
     f["seconds_per_simulated_second"].add(s.wall_s_per_frame / frame_dt);
   }
@@ -161,6 +167,7 @@ void run_compare(const CompareOptions& o) {
   nlohmann::json rows = nlohmann::json::array();
   std::vector<std::map<std::string, Figure>> figures;
   std::vector<gnn::RolloutResult> pictured;  // each model's rollout of the first trajectory
+  std::vector<std::vector<TrajectoryScores>> all_scores;
   long done = 0;
   for (auto& model : models) {
     gnn::LearnedSimulator& sim = *model.simulator;
@@ -172,7 +179,7 @@ void run_compare(const CompareOptions& o) {
     for (size_t k = 0; k < trajectories.size(); ++k) {
       gnn::RolloutResult kept;
       scores.push_back(score_rollout(sim, trajectories[k], m, scenes[k].get(), o.from, frames[k],
-                                     k == 0 ? &kept : nullptr));
+                                     o.relax, k == 0 ? &kept : nullptr));
       if (k == 0) pictured.push_back(std::move(kept));
       if (progress) progress->update(++done, model.name + " " + trajectories[k].source);
     }
@@ -186,6 +193,7 @@ void run_compare(const CompareOptions& o) {
     int64_t params = 0;
     for (const auto& p : sim.model().parameters()) params += p.numel();
     figures.push_back(figures_of(scores, m.frame_dt));
+    all_scores.push_back(scores);
     nlohmann::json row = {{"name", model.name},
                           {"model", sim.model().name()},
                           {"checkpoint", model.source},
@@ -206,8 +214,11 @@ void run_compare(const CompareOptions& o) {
   if (progress) progress->finish("");
 
   std::vector<double> sph_rates;
+  Figure sph_compression;  // the recorded frames' (the same in every model's scores)
   nlohmann::json sources = nlohmann::json::array();
   for (size_t k = 0; k < trajectories.size(); ++k) {
+    if (!all_scores.front()[k].true_compression_mean.empty())
+      sph_compression.add(mean(all_scores.front()[k].true_compression_mean));
     if (trajectories[k].sph_seconds_per_frame > 0)
       sph_rates.push_back(trajectories[k].sph_seconds_per_frame / m.frame_dt);
     sources.push_back({{"source", trajectories[k].source}, {"frames", frames[k]}});
@@ -216,6 +227,9 @@ void run_compare(const CompareOptions& o) {
       {"seconds_per_simulated_second",
        sph_rates.empty() ? nlohmann::json(nullptr) : nlohmann::json(mean(sph_rates))},
       {"spread", sph_rates.empty() ? nlohmann::json(nullptr) : nlohmann::json(spread(sph_rates))},
+      {"compression_mean", sph_compression.values.empty()
+                               ? nlohmann::json(nullptr)
+                               : nlohmann::json(mean(sph_compression.values))},
       {"note", "wall time of the SPH that generated the data, as recorded in metadata.json"}};
   const nlohmann::json result = {
       {"data", o.data_dir},
@@ -223,6 +237,7 @@ void run_compare(const CompareOptions& o) {
       {"from_frame", o.from},
       {"frame_dt", m.frame_dt},
       {"threads", o.threads},
+      {"relax_iterations", o.relax},
       {"units",
        "each figure is the mean over the trajectories (its standard deviation under 'spread'); "
        "one_step_mse and rollout_mse_H: squared position error (m^2) H frames after from_frame "
@@ -234,6 +249,10 @@ void run_compare(const CompareOptions& o) {
        "t_true| of each bank's first contact (a bank touched by one side only: the time from "
        "that contact to the rollout's end), mean over banks. Oil is a particle whose oil "
        "fraction is at least 1/2; slick, front and banks are spill.json's measures. "
+       "compression_mean / compression_p95: mean and 95th percentile over the particles of "
+       "max(rho/rho0 - 1, 0) of each predicted frame (after the relaxation when "
+       "relax_iterations > 0), mean over frames; sph.compression_mean: the same of the recorded "
+       "frames. "
        "seconds_per_simulated_second: wall time per frame (graph building included) over "
        "frame_dt; null: not defined for this data (e.g. no river, no bank touched)"},
       {"models", rows},
@@ -246,7 +265,11 @@ void run_compare(const CompareOptions& o) {
   md << "# Learned simulators compared\n\n"
      << trajectories.size() << " trajectories of `" << o.data_dir << "` (" << o.split
      << " split), each rolled out from frame " << o.from << " (frames " << m.frame_dt
-     << " s apart) on " << o.threads << " threads; mean ± standard deviation over trajectories. "
+     << " s apart) on " << o.threads << " threads"
+     << (o.relax > 0 ? ", each learned frame relaxed by " + std::to_string(o.relax) +
+                           " iterations of the simulator's density correction"
+                     : "")
+     << "; mean ± standard deviation over trajectories. "
      << "Units and definitions: `comparison.json`, key `units`. "
      << "`comparison.png`: the first trajectory seen from above (flow down the picture), "
      << "one column per moment; the first row is the simulator (SPH), then one row per model in "

@@ -69,8 +69,8 @@ void run_eval(const EvalOptions& o) {
                                std::to_string(t.frames()) + " frames");
     const int64_t frames = o.frames > 0 ? std::min<int64_t>(o.frames, available) : available;
     const auto scene = spill_scene_of(t, o.common.log);
-    scores.push_back(
-        score_rollout(*d.checkpoint.simulator, t, d.metadata, scene.get(), o.from, frames));
+    scores.push_back(score_rollout(*d.checkpoint.simulator, t, d.metadata, scene.get(), o.from,
+                                   frames, o.common.relax));
     const auto& s = scores.back();
     per_trajectory.push_back(
         {{"source", t.source},
@@ -117,6 +117,10 @@ void run_eval(const EvalOptions& o) {
       {"wall_s_per_frame", mean(wall)},
       {"sph_seconds_per_frame", mean(sph)},
       {"threads", o.common.threads},
+      {"relax_iterations", o.common.relax},
+      {"compression_mean", by_horizon(scores, &TrajectoryScores::compression_mean)},
+      {"compression_p95", by_horizon(scores, &TrajectoryScores::compression_p95)},
+      {"recorded_compression_mean", by_horizon(scores, &TrajectoryScores::true_compression_mean)},
       {"per_trajectory", per_trajectory}};
 
   const fs::path out = output.staging();

@@ -36,6 +36,10 @@ void add_common(CLI::App* c, infer::CommonOptions& o) {
                 "split for the model)")
       ->check(CLI::PositiveNumber);
   c->add_option("--device", o.device, "where the model runs: cpu (default) or cuda[:N]");
+  c->add_option("--relax", o.relax,
+                "after each learned frame, this many iterations of the simulator's "
+                "constant-density correction on the predicted positions (default 0: off)")
+      ->check(CLI::NonNegativeNumber);
 }
 }  // namespace
 
@@ -85,6 +89,10 @@ int main(int argc, char** argv) {
   c->add_option("--blas-threads", compare.blas_threads, "OpenBLAS threads for every model")
       ->check(CLI::PositiveNumber);
   c->add_option("--device", compare.device, "where the models run: cpu (default) or cuda[:N]");
+  c->add_option("--relax", compare.relax,
+                "after each learned frame, this many iterations of the simulator's "
+                "constant-density correction on the predicted positions (default 0: off)")
+      ->check(CLI::NonNegativeNumber);
   if (const auto stop = common::parse_command_line(app, argc, argv)) return *stop;
   try {
     if (r->parsed()) {

@@ -11,6 +11,7 @@
 #include "infer/commands.h"
 #include "infer/loaded_data.h"
 #include "infer/map_views.h"
+#include "infer/trajectory_scores.h"
 #include "sph/io/tensor_recorder.h"
 
 namespace infer {
@@ -38,10 +39,13 @@ void run_rollout(const RolloutOptions& o) {
   std::unique_ptr<common::ProgressReporter> progress;
   if (o.common.log)
     progress = std::make_unique<common::ProgressReporter>(*o.common.log, false, frames, "rollout");
-  auto r =
-      gnn::rollout(*d.checkpoint.simulator, t, o.from, frames, d.metadata.frame_dt, [&](int64_t k) {
+  const auto scene = o.common.relax > 0 ? spill_scene_of(t, o.common.log) : nullptr;
+  auto r = gnn::rollout(
+      *d.checkpoint.simulator, t, o.from, frames, d.metadata.frame_dt,
+      [&](int64_t k) {
         if (progress) progress->update(k, "");
-      });
+      },
+      relaxation_hook(scene.get(), o.common.relax));
   if (progress) progress->finish("");
 
   const fs::path out = output.target(), tmp = output.staging();
@@ -64,6 +68,7 @@ void run_rollout(const RolloutOptions& o) {
                          {"source", t.source},
                          {"from_frame", o.from},
                          {"frames", frames},
+                         {"relax_iterations", o.common.relax},
                          {"note",
                           "predicted positions of the learned simulator; particles enter "
                           "and leave on the recorded schedule, with their recorded oil "

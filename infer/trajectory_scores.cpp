@@ -3,6 +3,7 @@
 #include <cmath>
 #include <numeric>
 
+#include "common/exit_codes.h"
 #include "gnn/data/frame_window.h"
 #include "gnn/eval/metrics.h"
 #include "sph/river/slick_shape.h"
@@ -52,8 +53,8 @@ OilSeries oil_series(const gnn::SpillScene& scene, const torch::Tensor& position
 }  // namespace
 
 TrajectoryScores score_rollout(gnn::LearnedSimulator& sim, const gnn::Trajectory& t,
-                               const gnn::DatasetMetadata& m, const gnn::SpillScene* scene,
-                               int64_t from, int64_t frames, gnn::RolloutResult* kept) {
+                               const gnn::DatasetMetadata& m, gnn::SpillScene* scene, int64_t from,
+                               int64_t frames, int relax_iterations, gnn::RolloutResult* kept) {
   TrajectoryScores s;
   std::vector<int64_t> one_step_frames;
   const int64_t first = gnn::kWindow - 1, last = t.frames() - 2;
@@ -61,7 +62,8 @@ TrajectoryScores score_rollout(gnn::LearnedSimulator& sim, const gnn::Trajectory
   for (int64_t f = first; f <= last; f += stride) one_step_frames.push_back(f);
   s.one_step_mse = gnn::one_step_position_mse(sim, t, one_step_frames, m.frame_dt);
 
-  auto r = gnn::rollout(sim, t, from, frames, m.frame_dt);
+  auto r =
+      gnn::rollout(sim, t, from, frames, m.frame_dt, {}, relaxation_hook(scene, relax_iterations));
   auto truth = t.position.slice(0, from, from + frames + 1);
   auto truth_active = t.active.slice(0, from, from + frames + 1);
   auto truth_fraction = t.oil_fraction.slice(0, from, from + frames + 1);
@@ -97,6 +99,21 @@ TrajectoryScores score_rollout(gnn::LearnedSimulator& sim, const gnn::Trajectory
     for (int b = 0; b < 2; ++b) {
       s.bank_true[b] = true_oil.bank[b];
       s.bank_predicted[b] = predicted.bank[b];
+    }
+    sph::DensityRelaxation& density = scene->relaxation();
+    auto measure = [&](const torch::Tensor& x, const torch::Tensor& active,
+                       const torch::Tensor& fraction) {
+      const auto ids = active.nonzero().view(-1);
+      return density.measure(gnn::vectors_of(x.index_select(0, ids)),
+                             gnn::reals_of(fraction.index_select(0, ids)));
+    };
+    for (int64_t k = 1; k <= frames; ++k) {
+      const sph::CompressionStats p = measure(r.position[k], r.active[k], r.oil_fraction[k]);
+      const sph::CompressionStats q = measure(truth[k], truth_active[k], truth_fraction[k]);
+      s.compression_mean.push_back(p.mean);
+      s.compression_p95.push_back(p.p95);
+      s.true_compression_mean.push_back(q.mean);
+      s.true_compression_p95.push_back(q.p95);
     }
   }
   s.wall_s_per_frame =
@@ -135,6 +152,19 @@ std::optional<double> bank_contact_time_error(const TrajectoryScores& s) {
   }
   if (errors.empty()) return std::nullopt;
   return mean(errors);
+}
+
+gnn::FrameCorrection relaxation_hook(gnn::SpillScene* scene, int iterations) {
+  if (iterations <= 0) return {};
+  if (!scene)
+    throw common::InputError("--relax " + std::to_string(iterations) +
+                             ": the dataset carries no scene the simulator accepts, so there is "
+                             "no density correction to relax with");
+  return [scene, iterations](torch::Tensor& position, const torch::Tensor& fraction) {
+    auto x = gnn::vectors_of(position);
+    scene->relaxation().relax(x, gnn::reals_of(fraction), iterations);
+    position = gnn::tensor_of(x);
+  };
 }
 
 std::unique_ptr<gnn::SpillScene> spill_scene_of(const gnn::Trajectory& t, std::ostream* log) {

@@ -28,16 +28,27 @@ struct TrajectoryScores {
   // time (s after the rollout's start) each bank (left, right) was touched, if it was.
   std::vector<double> front_true, front_predicted;
   std::optional<double> bank_true[2], bank_predicted[2];
+  // Compression max(rho/rho0 - 1, 0) of the predicted and the recorded frames 1..F (mean and 95th
+  // percentile over the particles; empty without the scene).
+  std::vector<double> compression_mean, compression_p95, true_compression_mean,
+      true_compression_p95;
   double rollout_seconds = 0;  // simulated seconds the rollout spans
   double wall_s_per_frame = 0, sph_seconds_per_frame = 0;
 };
 
 // Rolls `simulator` out over frames from+1 .. from+frames of `t` and scores it; `scene` (may be
-// null) gives the particle volume and the river for the oil measures. `kept` receives the
-// rollout when given.
+// null) gives the particle volume and the river for the oil measures and the density
+// correction: with `relax_iterations` > 0 every learned frame gets that many iterations of it
+// (gnn/eval/spill_measures.h, sph/solvers/density_relaxation.h). `kept` receives the rollout
+// when given.
 TrajectoryScores score_rollout(gnn::LearnedSimulator& simulator, const gnn::Trajectory& t,
-                               const gnn::DatasetMetadata& m, const gnn::SpillScene* scene,
-                               int64_t from, int64_t frames, gnn::RolloutResult* kept = nullptr);
+                               const gnn::DatasetMetadata& m, gnn::SpillScene* scene, int64_t from,
+                               int64_t frames, int relax_iterations = 0,
+                               gnn::RolloutResult* kept = nullptr);
+
+// The hook that relaxes each learned frame by `iterations` of the scene's density correction;
+// empty for 0. Throws common::InputError when iterations > 0 and there is no scene.
+gnn::FrameCorrection relaxation_hook(gnn::SpillScene* scene, int iterations);
 
 // Responder figures of one trajectory's scores (absent when it has none of that kind):
 // mean |A_pred - A_true| / A_true over frames with a slick; mean |front_pred - front_true| (m);

@@ -8,8 +8,8 @@
 namespace gnn {
 
 RolloutResult rollout(LearnedSimulator& simulator, const Trajectory& t, int64_t first_frame,
-                      int64_t frames, double frame_dt,
-                      const std::function<void(int64_t)>& on_frame) {
+                      int64_t frames, double frame_dt, const std::function<void(int64_t)>& on_frame,
+                      const FrameCorrection& correct) {
   if (first_frame < 0 || frames < 1 || first_frame + frames >= t.frames())
     throw std::invalid_argument(t.source + ": cannot roll out " + std::to_string(frames) +
                                 " frames from frame " + std::to_string(first_frame) + " of " +
@@ -35,7 +35,8 @@ RolloutResult rollout(LearnedSimulator& simulator, const Trajectory& t, int64_t 
     ids = active.nonzero().view(-1);
     auto window = history.index_select(0, ids);
     FrameNodes nodes{window, fraction.index_select(0, ids), t.material, t.boundary};
-    const NextState next = simulator.next_state(nodes);
+    NextState next = simulator.next_state(nodes);
+    if (correct) correct(next.position, next.oil_fraction);
     history.index_copy_(0, ids, torch::cat({window.slice(1, 1), next.position.unsqueeze(1)}, 1));
     fraction.index_copy_(0, ids, next.oil_fraction);
     // The recorded schedule of the next frame: retire, then activate.

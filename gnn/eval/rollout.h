@@ -26,10 +26,14 @@ struct RolloutResult {
 };
 
 // Frames first_frame + 1 .. first_frame + frames (which must exist in the trajectory).
-// `on_frame(k)` is called after each predicted frame (for progress).
+// `on_frame(k)` is called after each predicted frame (for progress). `correct`, when given, may
+// move the predicted positions [n, 3] of the particles that were active (with their new oil
+// fractions [n]) before they enter the history: the SPH relaxation of infer's --relax.
+using FrameCorrection = std::function<void(torch::Tensor& position, const torch::Tensor& fraction)>;
 RolloutResult rollout(LearnedSimulator& simulator, const Trajectory& trajectory,
                       int64_t first_frame, int64_t frames, double frame_dt,
-                      const std::function<void(int64_t)>& on_frame = {});
+                      const std::function<void(int64_t)>& on_frame = {},
+                      const FrameCorrection& correct = {});
 
 // Mean squared error of one-step predicted positions (m^2, averaged over dimensions and over the
 // fluid particles active at both frames) at each of `frames` (each >= 0, < T - 1).

@@ -43,4 +43,32 @@ std::unique_ptr<sph::SpillMetrics> SpillScene::river_metrics() const {
   return sph::river_spill_metrics(scene_);
 }
 
+sph::DensityRelaxation& SpillScene::relaxation() {
+  if (!relaxation_) relaxation_ = std::make_unique<sph::DensityRelaxation>(scene_);
+  return *relaxation_;
+}
+
+std::vector<sph::Vec3> vectors_of(const torch::Tensor& position) {
+  const auto x = position.to(torch::kFloat64).contiguous();
+  const double* p = x.data_ptr<double>();
+  std::vector<sph::Vec3> out(size_t(x.size(0)));
+  for (size_t i = 0; i < out.size(); ++i)
+    out[i] = sph::Vec3(sph::Real(p[3 * i]), sph::Real(p[3 * i + 1]), sph::Real(p[3 * i + 2]));
+  return out;
+}
+
+std::vector<sph::Real> reals_of(const torch::Tensor& values) {
+  const auto v = values.to(torch::kFloat64).contiguous();
+  const double* p = v.data_ptr<double>();
+  return std::vector<sph::Real>(p, p + v.numel());
+}
+
+torch::Tensor tensor_of(const std::vector<sph::Vec3>& vectors) {
+  auto out = torch::empty({int64_t(vectors.size()), 3});
+  float* p = out.data_ptr<float>();
+  for (size_t i = 0; i < vectors.size(); ++i)
+    for (int k = 0; k < 3; ++k) p[3 * i + size_t(k)] = float(vectors[i][k]);
+  return out;
+}
+
 }  // namespace gnn

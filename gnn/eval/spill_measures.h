@@ -12,6 +12,7 @@
 #include "sph/core/particle_set.h"
 #include "sph/core/scene.h"
 #include "sph/river/spill_metrics.h"
+#include "sph/solvers/density_relaxation.h"
 
 namespace gnn {
 
@@ -20,6 +21,11 @@ namespace gnn {
 // measures do not read are zero.
 sph::FluidParticles fluid_of_frame(const torch::Tensor& position, const torch::Tensor& active,
                                    const torch::Tensor& oil_fraction, double particle_volume);
+
+// Positions [n, 3] and oil fractions [n] of fluid particles as the simulator's vectors, and back.
+std::vector<sph::Vec3> vectors_of(const torch::Tensor& position);
+std::vector<sph::Real> reals_of(const torch::Tensor& values);
+torch::Tensor tensor_of(const std::vector<sph::Vec3>& vectors);
 
 // What the scene of a trajectory says about its particles and its river.
 class SpillScene {
@@ -31,9 +37,12 @@ class SpillScene {
   // Fresh per-frame river spill measures (slick area, front, banks), as spill.json's; null when
   // the scene is not a river with a leak.
   std::unique_ptr<sph::SpillMetrics> river_metrics() const;
+  // The simulator's constant-density correction for this scene (built on first use).
+  sph::DensityRelaxation& relaxation();
 
  private:
   sph::SceneConfig scene_;
+  std::unique_ptr<sph::DensityRelaxation> relaxation_;
   double particle_volume_ = 0, cell_ = 0;
 };
 
