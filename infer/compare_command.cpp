@@ -118,6 +118,19 @@ std::map<std::string, Figure> figures_of(const std::vector<TrajectoryScores>& sc
   return f;
 }
 
+std::vector<double> mean_by_frame(const std::vector<TrajectoryScores>& scores,
+                                  std::vector<double> TrajectoryScores::*series) {
+  std::vector<double> sum, count;
+  for (const auto& s : scores)
+    for (size_t k = 0; k < (s.*series).size(); ++k) {
+      if (sum.size() <= k) sum.resize(k + 1, 0.0), count.resize(k + 1, 0.0);
+      sum[k] += (s.*series)[k];
+      count[k] += 1;
+    }
+  for (size_t k = 0; k < sum.size(); ++k) sum[k] /= count[k];
+  return sum;
+}
+
 std::string number(double v) {
   char text[32];
   std::snprintf(text, sizeof text, "%.3g", v);
@@ -209,6 +222,10 @@ void run_compare(const CompareOptions& o) {
       spreads[key] = f.values.empty() ? nlohmann::json(nullptr) : nlohmann::json(spread(f.values));
     }
     row["spread"] = spreads;
+    // Frame by frame (frame k after from_frame at index k - 1), the mean over the trajectories
+    // that reach it: for figures at a simulated time rather than a frame count.
+    row["by_frame"] = {{"rollout_mse", mean_by_frame(scores, &TrajectoryScores::mse)},
+                       {"oil_iou", mean_by_frame(scores, &TrajectoryScores::iou)}};
     rows.push_back(row);
   }
   if (progress) progress->finish("");
@@ -252,7 +269,8 @@ void run_compare(const CompareOptions& o) {
        "compression_mean / compression_p95: mean and 95th percentile over the particles of "
        "max(rho/rho0 - 1, 0) of each predicted frame (after the relaxation when "
        "relax_iterations > 0), mean over frames; sph.compression_mean: the same of the recorded "
-       "frames. "
+       "frames. by_frame: rollout_mse and oil_iou at every frame after from_frame (index k - 1 "
+       "for frame k), mean over the trajectories that reach it. "
        "seconds_per_simulated_second: wall time per frame (graph building included) over "
        "frame_dt; null: not defined for this data (e.g. no river, no bank touched)"},
       {"models", rows},

@@ -122,6 +122,8 @@ TEST(Cli, CompareWritesARowPerModelAndTheFloor) {
     EXPECT_TRUE(row["rollout_mse_10"].is_null());
     EXPECT_TRUE(row["front_distance_error_m"].is_null());
     EXPECT_TRUE(row["spread"].contains("rollout_mse_5"));
+    EXPECT_EQ(row["by_frame"]["rollout_mse"].size(), 8u);
+    EXPECT_EQ(row["by_frame"]["rollout_mse"][4], row["rollout_mse_5"]);
   }
   EXPECT_EQ(result["models"][2]["params"], 0);
   EXPECT_EQ(result["models"][2]["flops_per_particle"], 0.0);
