@@ -47,11 +47,39 @@ void truncate_log(const std::string& file, int64_t step) {
 
 }  // namespace
 
-Trainer::Trainer(TrainerOptions options) : options_(std::move(options)) {
+TrainingData read_training_data(const std::string& dir) {
+  TrainingData d;
+  d.metadata = gnn::read_metadata((fs::path(dir) / "metadata.json").string());
+  d.train = gnn::read_split(dir, "train", d.metadata);
+  d.valid = gnn::read_split(dir, "valid", d.metadata);
+  d.description = dir;
+  return d;
+}
+
+Trainer::Trainer(TrainerOptions options)
+    : Trainer(options, [dir = options.data_dir] { return read_training_data(dir); }) {}
+
+Trainer::Trainer(TrainerOptions options, const std::function<TrainingData()>& load_data)
+    : options_(std::move(options)) {
   config_ = load_training_config(options_.config_file, options_.overrides);
-  metadata_ = gnn::read_metadata((fs::path(options_.data_dir) / "metadata.json").string());
-  train_ = gnn::read_split(options_.data_dir, "train", metadata_);
-  valid_ = gnn::read_split(options_.data_dir, "valid", metadata_);
+  const std::string last = checkpoint_path(options_.out_dir);
+  if (options_.resume && !fs::exists(last))
+    throw gnn::CheckpointError(last + ": nothing to resume (no checkpoint in the run folder)");
+  if (!options_.resume && fs::exists(last))
+    throw std::runtime_error(options_.out_dir +
+                             " already holds a training run (last.pt): use --resume to "
+                             "continue it, or another --out");
+  {
+    TrainingData data = load_data();
+    metadata_ = std::move(data.metadata);
+    train_ = std::move(data.train);
+    valid_ = std::move(data.valid);
+    data_description_ = std::move(data.description);
+  }
+  if (train_.empty() || valid_.empty())
+    throw gnn::DatasetError(metadata_.file + ": no " +
+                            (train_.empty() ? "training" : "validation") +
+                            " trajectories (training needs at least one of each)");
   for (const auto& t : train_)
     if (t.frames() < gnn::kWindow + 1 + config_.training.pushforward_steps)
       throw gnn::DatasetError(t.source + ": too few frames for a training window");
@@ -62,10 +90,7 @@ Trainer::Trainer(TrainerOptions options) : options_(std::move(options)) {
       throw gnn::DatasetError(t.source + ": " + std::to_string(t.frames()) +
                               " frames, a validation window needs at least " +
                               std::to_string(gnn::kWindow + 1));
-  const std::string last = checkpoint_path(options_.out_dir);
   if (options_.resume) {
-    if (!fs::exists(last))
-      throw gnn::CheckpointError(last + ": nothing to resume (no checkpoint in the run folder)");
     auto loaded = gnn::load_checkpoint(last, config_.model_json.value("model", ""));
     gnn::check_data_fits(loaded.data, metadata_, last);
     // The run goes on with its own stored configs; only the step count may be raised. A config
@@ -98,10 +123,6 @@ Trainer::Trainer(TrainerOptions options) : options_(std::move(options)) {
     state_ = loaded.state;
     state_.training_config = config_.training_json;
   } else {
-    if (fs::exists(last))
-      throw std::runtime_error(options_.out_dir +
-                               " already holds a training run (last.pt): use --resume to "
-                               "continue it, or another --out");
     // The initial weights come from LibTorch's global generator: seeded, so that a run is
     // reproducible from its config.
     torch::manual_seed(uint64_t(config_.training.seed));
@@ -264,7 +285,7 @@ double Trainer::train_steps() {
     common::write_file_atomically(fs::path(options_.out_dir) / "config.json",
                                   nlohmann::json{{"training", config_.training_json},
                                                  {"model", simulator_->model().config()},
-                                                 {"data", options_.data_dir}}
+                                                 {"data", data_description_}}
                                           .dump(2) +
                                       "\n");
   }

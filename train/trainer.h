@@ -9,6 +9,7 @@
 // the same random streams, so on one thread a resumed run reproduces the uninterrupted run's log
 // row for row.
 
+#include <functional>
 #include <iosfwd>
 #include <memory>
 #include <random>
@@ -26,7 +27,7 @@ namespace train {
 struct TrainerOptions {
   std::string config_file;
   std::vector<std::string> overrides;
-  std::string data_dir;
+  std::string data_dir;  // the dataset folder (--data) of Trainer(options)
   std::string out_dir;
   bool resume = false;
   torch::Device device = torch::kCPU;  // where the model trains (the data pipeline stays on CPU)
@@ -36,9 +37,24 @@ struct TrainerOptions {
 
 using gnn::TrainingBatch;
 
+// What a run trains and validates on.
+struct TrainingData {
+  gnn::DatasetMetadata metadata;
+  std::vector<gnn::Trajectory> train, valid;
+  nlohmann::json description;  // RUN/config.json's "data": the folder, or how it was simulated
+};
+
+// A dataset folder's metadata.json, train.h5 and valid.h5.
+TrainingData read_training_data(const std::string& dir);
+
 class Trainer {
  public:
+  // Trains on the dataset folder options.data_dir.
   explicit Trainer(TrainerOptions options);
+  // Trains on what `load_data` returns. It is called once, after the training config and the
+  // run folder (a new run's, or --resume's checkpoint) were checked, so that those fail before a
+  // long load such as simulating the data (train/scene_data.h).
+  Trainer(TrainerOptions options, const std::function<TrainingData()>& load_data);
   // Trains up to the configured step count; returns the final training loss (last log row).
   double run();
   // The objective's total loss of one batch (with autograd).
@@ -57,6 +73,7 @@ class Trainer {
   ResolvedConfig config_;
   gnn::DatasetMetadata metadata_;
   std::vector<gnn::Trajectory> train_, valid_;
+  nlohmann::json data_description_;
   std::unique_ptr<gnn::LearnedSimulator> simulator_;
   std::unique_ptr<gnn::TrainingObjective> objective_;
   std::unique_ptr<torch::optim::Adam> optimizer_;

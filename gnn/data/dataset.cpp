@@ -99,6 +99,8 @@ torch::Tensor vec_tensor(const std::array<double, 3>& v) {
   return torch::tensor({float(v[0]), float(v[1]), float(v[2])});
 }
 
+}  // namespace
+
 // The scene with the trajectory's drawn parameters applied (they are JSON pointers into the
 // scene, e.g. /materials/oil/density); empty without a scene.
 nlohmann::json trajectory_scene(const nlohmann::json& metadata, int64_t index) {
@@ -118,18 +120,22 @@ nlohmann::json trajectory_scene(const nlohmann::json& metadata, int64_t index) {
   return scene;
 }
 
-}  // namespace
-
 DatasetMetadata read_metadata(const std::string& file) {
   std::ifstream in(file);
   if (!in) fail(file, "cannot open the dataset's metadata");
-  DatasetMetadata m;
-  m.file = file;
+  nlohmann::json raw;
   try {
-    m.raw = nlohmann::json::parse(in);
+    raw = nlohmann::json::parse(in);
   } catch (const nlohmann::json::parse_error& e) {
     fail(file, std::string("not valid JSON: ") + e.what());
   }
+  return metadata_from_json(std::move(raw), file);
+}
+
+DatasetMetadata metadata_from_json(nlohmann::json raw, const std::string& file) {
+  DatasetMetadata m;
+  m.file = file;
+  m.raw = std::move(raw);
   m.dim = int(read_number(m.raw, "dim", file));
   if (m.dim != 3) fail(file, "key \"dim\": only 3-dimensional data is supported");
   m.frame_dt = read_number(m.raw, "dt", file);

@@ -50,6 +50,8 @@ struct DatasetMetadata {
 };
 
 DatasetMetadata read_metadata(const std::string& file);
+// The same checks on metadata.json's content held in memory; `file` names it in errors.
+DatasetMetadata metadata_from_json(nlohmann::json raw, const std::string& file);
 
 struct Trajectory {
   std::string source;           // "file:/group", for messages
@@ -85,5 +87,10 @@ Trajectory from_recorded(const sph::RecordedTrajectory& recorded, const nlohmann
 
 // Material rows (see Trajectory::material) from a scene's "materials" object.
 torch::Tensor material_table(const nlohmann::json& materials);
+
+// metadata.json's scene with the drawn parameters of its trajectory entry `index` applied (they
+// are JSON pointers into the scene, e.g. /materials/oil/density): what Trajectory::scene holds;
+// an empty object when the metadata holds no scene.
+nlohmann::json trajectory_scene(const nlohmann::json& metadata, int64_t index);
 
 }  // namespace gnn

@@ -1,6 +1,7 @@
 #include "sph/app/dataset_generator.h"
 
 #include <hdf5.h>
+#include <omp.h>
 
 #include <algorithm>
 #include <chrono>
@@ -8,6 +9,7 @@
 #include <cstdlib>
 #include <fstream>
 #include <iostream>
+#include <memory>
 #include <random>
 #include <sstream>
 #include <stdexcept>
@@ -18,6 +20,7 @@
 #include "common/stopwatch.h"
 #include "sph/app/scene_runner.h"
 #include "sph/core/config.h"
+#include "sph/core/floating_point.h"
 #include "sph/core/scene.h"
 #include "sph/core/simulation.h"
 #include "sph/core/simulation_error.h"
@@ -107,16 +110,73 @@ nlohmann::json read_part_info(const fs::path& file) {
   return j;
 }
 
-struct Part {
-  nlohmann::json info;  // index, split, parameters, particles, frames, moments
-  fs::path h5;
+// Running moments of the recorded frames' velocities and accelerations, the sums behind the
+// normalisation statistics: velocity x_t - x_(t-1) and acceleration x_(t+1) - 2 x_t + x_(t-1), in
+// frame units, over particles active in all the frames involved.
+class FrameMoments {
+ public:
+  void add_frame(const Simulation& sim) {
+    const FluidParticles& f = sim.fluid();
+    std::vector<std::uint8_t> active(f.size(), 0);
+    for (Index i = 0; i < f.active_count(); ++i) active[f.id[i]] = 1;
+    std::vector<Vec3> position = sim.in_id_order(f.position);
+    for (size_t i = 0; i < position.size(); ++i) {
+      if (!previous_.empty() && active[i] && active_previous_[i])
+        velocity.add((position[i] - previous_[i]).cast<double>());
+      if (!before_.empty() && active[i] && active_previous_[i] && active_before_[i])
+        acceleration.add((position[i] - 2 * previous_[i] + before_[i]).cast<double>());
+    }
+    before_ = std::move(previous_);
+    active_before_ = std::move(active_previous_);
+    previous_ = std::move(position);
+    active_previous_ = std::move(active);
+  }
+  Moments velocity, acceleration;
+
+ private:
+  // Positions and activity of the last two recorded frames, in identity order.
+  std::vector<Vec3> before_, previous_;
+  std::vector<std::uint8_t> active_before_, active_previous_;
 };
 
-// Simulates trajectory `index` and writes its part files; returns the part's JSON.
-nlohmann::json simulate_part(const GenerateOptions& options, const LoadedScene& scene, int index,
-                             int split, const nlohmann::json& parameters, const fs::path& h5,
-                             int total_trajectories) {
+// The generator's sink: the trajectory's part file, written frame by frame.
+class PartFileSink : public TrajectorySink {
+ public:
+  explicit PartFileSink(fs::path file) : file_(std::move(file)) {}
+  void begin(const Simulation& sim) override {
+    std::vector<std::int32_t> types(sim.fluid().size());
+    for (Index i = 0; i < sim.fluid().size(); ++i)
+      types[sim.fluid().id[i]] = std::int32_t(sim.fluid().type[i]);
+    writer_ =
+        std::make_unique<TrajectoryWriter>(file_.string(), "00000", types, sim.boundary().position);
+  }
+  void record(const Simulation& sim) override {
+    const FluidParticles& f = sim.fluid();
+    std::vector<std::uint8_t> active(f.size(), 0);
+    for (Index i = 0; i < f.active_count(); ++i) active[f.id[i]] = 1;
+    writer_->append(sim.time(), sim.in_id_order(f.position), sim.in_id_order(f.velocity), active,
+                    sim.in_id_order(f.oil_fraction));
+  }
+  void close() { writer_->close(); }
+
+ private:
+  fs::path file_;
+  std::unique_ptr<TrajectoryWriter> writer_;
+};
+
+}  // namespace
+
+const char* split_name(int split) {
+  if (split < 0 || split > 2)
+    throw std::out_of_range("split_name: no split " + std::to_string(split));
+  return kSplitNames[split];
+}
+
+nlohmann::json simulate_trajectory(const GenerateOptions& options, const TrajectoryPlan& plan,
+                                   TrajectorySink& sink, const std::string& interrupted_note) {
+  const LoadedScene scene = trajectory_scene(options, plan.parameters);
   const SceneConfig& c = scene.config;
+  const FlushSubnormalsScope flushed;
   Simulation sim(c);
   const double frame_dt = shortest_decimal(c.output.frame_dt);
   const int scene_frames = int(std::llround(double(c.end_time) / frame_dt));
@@ -134,40 +194,19 @@ nlohmann::json simulate_part(const GenerateOptions& options, const LoadedScene& 
                           std::to_string(warm_up) + " s and " + std::to_string(last - first) +
                           " frames need " + std::to_string(double(last) * frame_dt) + " s");
 
-  std::vector<std::int32_t> types(sim.fluid().size());
-  for (Index i = 0; i < sim.fluid().size(); ++i)
-    types[sim.fluid().id[i]] = std::int32_t(sim.fluid().type[i]);
-  const fs::path tmp = h5.string() + ".tmp";
-  TrajectoryWriter writer(tmp.string(), "00000", types, sim.boundary().position);
-
+  sink.begin(sim);
   common::ProgressReporter progress(options.log ? *options.log : std::cerr, false, last,
-                                    "trajectory " + std::to_string(index + 1) + "/" +
-                                        std::to_string(total_trajectories) + " (" +
-                                        kSplitNames[split] + ")");
-  Moments velocity, acceleration;
-  // Positions and activity of the last two recorded frames, in identity order: velocity
-  // x_t - x_(t-1) and acceleration x_(t+1) - 2 x_t + x_(t-1), in frame units, over particles
-  // active in all the frames involved.
-  std::vector<Vec3> before, previous;
-  std::vector<std::uint8_t> active_before, active_previous;
+                                    "trajectory " + std::to_string(plan.index + 1) + "/" +
+                                        std::to_string(options.trajectories) + " (" +
+                                        kSplitNames[plan.split] + ")");
+  FrameMoments moments;
   auto record = [&]() {
-    const FluidParticles& f = sim.fluid();
-    std::vector<std::uint8_t> active(f.size(), 0);
-    for (Index i = 0; i < f.active_count(); ++i) active[f.id[i]] = 1;
-    std::vector<Vec3> position = sim.in_id_order(f.position);
-    writer.append(sim.time(), position, sim.in_id_order(f.velocity), active,
-                  sim.in_id_order(f.oil_fraction));
-    for (size_t i = 0; i < position.size(); ++i) {
-      if (!previous.empty() && active[i] && active_previous[i])
-        velocity.add((position[i] - previous[i]).cast<double>());
-      if (!before.empty() && active[i] && active_previous[i] && active_before[i])
-        acceleration.add((position[i] - 2 * previous[i] + before[i]).cast<double>());
-    }
-    before = std::move(previous);
-    active_before = std::move(active_previous);
-    previous = std::move(position);
-    active_previous = std::move(active);
+    sink.record(sim);
+    moments.add_frame(sim);
   };
+  // The OpenMP threads the simulation had: LibTorch's first operation (a sink's) once dropped
+  // them to one.
+  int threads = omp_get_max_threads();
   // Wall time of simulating the recorded frames (not the warm-up): what a learned simulator
   // that rolls the same frames forward is compared against.
   double recorded_wall_s = 0;
@@ -176,38 +215,35 @@ nlohmann::json simulate_part(const GenerateOptions& options, const LoadedScene& 
   loop.last = last;
   loop.frame_dt = frame_dt;
   loop.stop = options.stop;
-  loop.interrupted_note = "trajectory " + std::to_string(index) +
-                          " is not kept; finished trajectories are kept in " +
-                          (options.out_dir / "parts").string();
+  loop.interrupted_note = interrupted_note;
   loop.progress = options.log ? &progress : nullptr;
   run_frames(sim, loop, [&](int frame, const FrameStats&, double simulated_s) {
     if (frame == first) record();  // after the warm-up
+    threads = std::min(threads, omp_get_max_threads());
     if (frame <= first) return;
     recorded_wall_s += simulated_s;
     record();
   });
-  writer.close();
-  fs::rename(tmp, h5);
   if (options.log) progress.finish(std::to_string(sim.steps()) + " steps");
-  return {{"index", index},
-          {"split", kSplitNames[split]},
-          {"parameters", parameters},
+  return {{"index", plan.index},
+          {"split", kSplitNames[plan.split]},
+          {"parameters", plan.parameters},
           {"particles", sim.fluid().size()},
           {"frames", last - first + 1},
           {"first_frame_time", double(first) * frame_dt},
           {"sph_wall_s", recorded_wall_s},
           {"sph_seconds_per_frame", last > first ? recorded_wall_s / (last - first) : 0.0},
-          {"velocity_moments", velocity.to_json()},
-          {"acceleration_moments", acceleration.to_json()}};
+          {"simulation_threads", threads},
+          {"velocity_moments", moments.velocity.to_json()},
+          {"acceleration_moments", moments.acceleration.to_json()}};
 }
 
-// Copies the parts of one split into `file` as groups 00000, 00001, ... (atomically).
-void assemble_split(const fs::path& file, const std::vector<const Part*>& parts) {
+void assemble_split(const fs::path& file, const std::vector<fs::path>& parts) {
   const fs::path tmp = file.string() + ".tmp";
   const hid_t out = H5Fcreate(tmp.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
   if (out < 0) throw SimulationError(tmp.string() + ": cannot create");
   for (size_t k = 0; k < parts.size(); ++k) {
-    const hid_t in = H5Fopen(parts[k]->h5.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+    const hid_t in = H5Fopen(parts[k].c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
     const herr_t copied =
         in < 0 ? -1
                : H5Ocopy(in, "00000", out, group_name(int(k)).c_str(), H5P_DEFAULT, H5P_DEFAULT);
@@ -216,7 +252,7 @@ void assemble_split(const fs::path& file, const std::vector<const Part*>& parts)
       H5Fclose(out);
       std::error_code ec;
       fs::remove(tmp, ec);
-      throw SimulationError(parts[k]->h5.string() + ": cannot copy the trajectory into " +
+      throw SimulationError(parts[k].string() + ": cannot copy the trajectory into " +
                             file.string() +
                             " (a damaged part: delete it to simulate it again; or a full disk)");
     }
@@ -228,8 +264,6 @@ void assemble_split(const fs::path& file, const std::vector<const Part*>& parts)
   }
   fs::rename(tmp, file);
 }
-
-}  // namespace
 
 ParameterRange parse_parameter_range(const std::string& text) {
   const auto eq = text.find('='), colon = text.rfind(':');
@@ -250,6 +284,16 @@ ParameterRange parse_parameter_range(const std::string& text) {
   if (hi.empty() || *end != '\0') throw bad("HI is not a number");
   if (!(r.lo <= r.hi)) throw bad("expected LO <= HI");
   return r;
+}
+
+std::array<double, 3> parse_split(const std::string& text) {
+  std::array<double, 3> split{};
+  char slash1 = 0, slash2 = 0;
+  std::istringstream in(text);
+  if (!(in >> split[0] >> slash1 >> split[1] >> slash2 >> split[2]) || slash1 != '/' ||
+      slash2 != '/' || !in.eof())
+    throw common::InputError("--split " + text + ": expected TRAIN/VALID/TEST");
+  return split;
 }
 
 std::array<int, 3> split_counts(int total, const std::array<double, 3>& f) {
@@ -275,9 +319,14 @@ std::array<int, 3> split_counts(int total, const std::array<double, 3>& f) {
   return n;
 }
 
-namespace {
+LoadedScene trajectory_scene(const GenerateOptions& o, const nlohmann::json& parameters) {
+  std::vector<std::string> overrides = o.overrides;
+  for (const auto& [pointer, value] : parameters.items())
+    overrides.push_back(pointer + "=" + number_text(value.get<double>()));
+  return load_scene(o.scene_file, overrides);
+}
 
-nlohmann::json generate_into(const GenerateOptions& o) {
+std::vector<TrajectoryPlan> plan_trajectories(const GenerateOptions& o) {
   if (o.trajectories < 1) throw common::InputError("--trajectories must be at least 1");
   if (o.frames == 1)
     throw common::InputError("--frames must be at least 2 (velocities need two frames)");
@@ -285,19 +334,81 @@ nlohmann::json generate_into(const GenerateOptions& o) {
   // Everything drawn before anything runs: resuming, or repeating with the same seed, draws the
   // same parameters.
   std::mt19937_64 rng(o.seed);
-  std::vector<nlohmann::json> drawn(size_t(o.trajectories));
-  for (auto& p : drawn) {
-    p = nlohmann::json::object();
-    for (const auto& r : o.vary) p[r.pointer] = r.lo + (r.hi - r.lo) * unit(rng);
+  std::vector<TrajectoryPlan> plan(size_t(o.trajectories));
+  int split = 0, in_split = 0;
+  for (int k = 0; k < o.trajectories; ++k) {
+    TrajectoryPlan& p = plan[size_t(k)];
+    p.index = k;
+    p.parameters = nlohmann::json::object();
+    for (const auto& r : o.vary) p.parameters[r.pointer] = r.lo + (r.hi - r.lo) * unit(rng);
+    while (in_split >= counts[size_t(split)]) ++split, in_split = 0;
+    ++in_split;
+    p.split = split;
   }
-  auto scene_of = [&](int k) {
-    std::vector<std::string> overrides = o.overrides;
-    for (const auto& [pointer, value] : drawn[size_t(k)].items())
-      overrides.push_back(pointer + "=" + number_text(value.get<double>()));
-    return load_scene(o.scene_file, overrides);
-  };
   // Check every drawn scene before the first simulation, so a bad pointer fails at once.
-  for (int k = 0; k < o.trajectories; ++k) scene_of(k);
+  for (const TrajectoryPlan& p : plan) trajectory_scene(o, p.parameters);
+  return plan;
+}
+
+nlohmann::json generation_settings(const GenerateOptions& o) {
+  nlohmann::json vary = nlohmann::json::array();
+  for (const auto& r : o.vary) vary.push_back({{"pointer", r.pointer}, {"lo", r.lo}, {"hi", r.hi}});
+  return {{"seed", o.seed},           {"trajectories", o.trajectories},
+          {"split", o.split},         {"frames", o.frames},
+          {"warm_up", o.warm_up},     {"vary", vary},
+          {"overrides", o.overrides}, {"threads", o.threads}};
+}
+
+nlohmann::json dataset_metadata(const GenerateOptions& o,
+                                const std::vector<nlohmann::json>& trajectories) {
+  if (trajectories.empty()) throw std::invalid_argument("dataset_metadata: no trajectories");
+  // Normalisation statistics over the training split (all trajectories if it is empty).
+  bool any_train = false;
+  for (const auto& t : trajectories) any_train = any_train || t.at("split") == "train";
+  Moments velocity, acceleration;
+  for (const auto& t : trajectories)
+    if (t.at("split") == "train" || !any_train) {
+      velocity.add(Moments::from_json(t.at("velocity_moments")));
+      acceleration.add(Moments::from_json(t.at("acceleration_moments")));
+    }
+  nlohmann::json lengths = nlohmann::json::object(), split_counts_json = nlohmann::json::object();
+  nlohmann::json described = nlohmann::json::array();
+  for (int s = 0; s < 3; ++s) {
+    int members = 0;
+    lengths[kSplitNames[s]] = nlohmann::json::array();
+    for (const auto& info : trajectories)
+      if (info.at("split") == kSplitNames[s]) {
+        nlohmann::json t = info;
+        t.erase("velocity_moments");
+        t.erase("acceleration_moments");
+        t["group"] = group_name(members++);
+        described.push_back(t);
+        lengths[kSplitNames[s]].push_back(info.at("frames"));
+      }
+    split_counts_json[kSplitNames[s]] = members;
+  }
+  const LoadedScene base = trajectory_scene(o, trajectories[0].at("parameters"));
+  const Simulation base_sim(base.config);
+  nlohmann::json meta = run_metadata(base_sim, base, int(trajectories[0].at("frames")) - 1);
+  meta["sequence_length"] = trajectories[0].at("frames");
+  meta["sequence_lengths"] = lengths;
+  meta["counts"] = split_counts_json;
+  meta["vel_mean"] = velocity.mean();
+  meta["vel_std"] = velocity.std_dev();
+  meta["acc_mean"] = acceleration.mean();
+  meta["acc_std"] = acceleration.std_dev();
+  meta["statistics_note"] =
+      "velocity x_t - x_(t-1) and acceleration x_(t+1) - 2 x_t + x_(t-1) per frame (m), over "
+      "fluid particles active in those frames, of the training split";
+  meta["generation"] = generation_settings(o);
+  meta["trajectories"] = described;
+  return meta;
+}
+
+namespace {
+
+nlohmann::json generate_into(const GenerateOptions& o) {
+  const std::vector<TrajectoryPlan> plan = plan_trajectories(o);
 
   const fs::path parts_dir = o.out_dir / "parts";
   fs::create_directories(parts_dir);
@@ -334,80 +445,47 @@ nlohmann::json generate_into(const GenerateOptions& o) {
                         "missing, beside trajectories of an earlier generation; use a fresh --out");
     write_json_atomically(request_file, request);
   }
-  std::vector<Part> parts(size_t(o.trajectories));
-  int split = 0, in_split = 0;
-  for (int k = 0; k < o.trajectories; ++k) {
-    while (in_split >= counts[size_t(split)]) ++split, in_split = 0;
-    ++in_split;
-    Part& part = parts[size_t(k)];
-    part.h5 = parts_dir / ("trajectory_" + group_name(k) + ".h5");
-    const fs::path info = parts_dir / ("trajectory_" + group_name(k) + ".json");
-    if (fs::exists(info) && fs::exists(part.h5)) {
-      part.info = read_part_info(info);
-      if (part.info.at("parameters") != drawn[size_t(k)] ||
-          part.info.at("split") != kSplitNames[split])
+  std::vector<nlohmann::json> infos(plan.size());
+  std::vector<fs::path> h5(plan.size());
+  for (const TrajectoryPlan& p : plan) {
+    const size_t k = size_t(p.index);
+    h5[k] = parts_dir / ("trajectory_" + group_name(p.index) + ".h5");
+    const fs::path info = parts_dir / ("trajectory_" + group_name(p.index) + ".json");
+    if (fs::exists(info) && fs::exists(h5[k])) {
+      infos[k] = read_part_info(info);
+      if (infos[k].at("parameters") != p.parameters || infos[k].at("split") != kSplitNames[p.split])
         throw ConfigError(info.string(), "/parameters",
                           "this folder holds another generation (other seed, ranges or split); "
                           "use a fresh --out");
       if (o.log) *o.log << "trajectory " << k + 1 << "/" << o.trajectories << ": done before\n";
       continue;
     }
+    const fs::path tmp = h5[k].string() + ".tmp";
     try {
-      part.info =
-          simulate_part(o, scene_of(k), k, split, drawn[size_t(k)], part.h5, o.trajectories);
+      PartFileSink sink(tmp);
+      infos[k] = simulate_trajectory(o, p, sink,
+                                     "trajectory " + std::to_string(p.index) +
+                                         " is not kept; finished trajectories are kept in " +
+                                         parts_dir.string());
+      sink.close();
+      fs::rename(tmp, h5[k]);
     } catch (...) {
       // Nothing half-written stays behind; finished trajectories do.
       std::error_code ec;
-      fs::remove(part.h5.string() + ".tmp", ec);
+      fs::remove(tmp, ec);
       throw;
     }
-    write_json_atomically(info, part.info);
+    write_json_atomically(info, infos[k]);
     if (o.log) *o.log << "trajectories: " << k + 1 << "/" << o.trajectories << " done\n";
   }
 
-  // Normalisation statistics over the training split (all trajectories if it is empty).
-  Moments velocity, acceleration;
-  for (const Part& p : parts)
-    if (p.info.at("split") == "train" || counts[0] == 0) {
-      velocity.add(Moments::from_json(p.info.at("velocity_moments")));
-      acceleration.add(Moments::from_json(p.info.at("acceleration_moments")));
-    }
-  nlohmann::json lengths = nlohmann::json::object(), split_counts_json = nlohmann::json::object();
-  nlohmann::json trajectories = nlohmann::json::array();
   for (int s = 0; s < 3; ++s) {
-    std::vector<const Part*> members;
-    lengths[kSplitNames[s]] = nlohmann::json::array();
-    for (const Part& p : parts)
-      if (p.info.at("split") == kSplitNames[s]) {
-        nlohmann::json t = p.info;
-        t.erase("velocity_moments");
-        t.erase("acceleration_moments");
-        t["group"] = group_name(int(members.size()));
-        trajectories.push_back(t);
-        lengths[kSplitNames[s]].push_back(p.info.at("frames"));
-        members.push_back(&p);
-      }
-    split_counts_json[kSplitNames[s]] = members.size();
+    std::vector<fs::path> members;
+    for (const TrajectoryPlan& p : plan)
+      if (p.split == s) members.push_back(h5[size_t(p.index)]);
     assemble_split(o.out_dir / (std::string(kSplitNames[s]) + ".h5"), members);
   }
-  const LoadedScene base = scene_of(0);
-  const Simulation base_sim(base.config);
-  nlohmann::json meta = run_metadata(base_sim, base, int(parts[0].info.at("frames")) - 1);
-  meta["sequence_length"] = parts[0].info.at("frames");
-  meta["sequence_lengths"] = lengths;
-  meta["counts"] = split_counts_json;
-  meta["vel_mean"] = velocity.mean();
-  meta["vel_std"] = velocity.std_dev();
-  meta["acc_mean"] = acceleration.mean();
-  meta["acc_std"] = acceleration.std_dev();
-  meta["statistics_note"] =
-      "velocity x_t - x_(t-1) and acceleration x_(t+1) - 2 x_t + x_(t-1) per frame (m), over "
-      "fluid particles active in those frames, of the training split";
-  meta["generation"] = {{"seed", o.seed},           {"trajectories", o.trajectories},
-                        {"split", o.split},         {"frames", o.frames},
-                        {"warm_up", o.warm_up},     {"vary", vary},
-                        {"overrides", o.overrides}, {"threads", o.threads}};
-  meta["trajectories"] = trajectories;
+  const nlohmann::json meta = dataset_metadata(o, infos);
   write_json_atomically(o.out_dir / "metadata.json", meta);
   return meta;
 }

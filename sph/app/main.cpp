@@ -20,7 +20,6 @@
 #include <atomic>
 #include <csignal>
 #include <iostream>
-#include <sstream>
 #include <stdexcept>
 
 #include "common/command_line.h"
@@ -217,13 +216,7 @@ int main(int argc, char** argv) {
       gen.out_dir = common::normalise_output_path(gen_out);
       gen.overrides = gen_overrides;
       for (const auto& v : gen_vary) gen.vary.push_back(sph::parse_parameter_range(v));
-      std::array<double, 3> split{};
-      char slash1 = 0, slash2 = 0;
-      std::istringstream split_text(gen_split);
-      if (!(split_text >> split[0] >> slash1 >> split[1] >> slash2 >> split[2]) || slash1 != '/' ||
-          slash2 != '/' || !split_text.eof())
-        throw common::InputError("--split " + gen_split + ": expected TRAIN/VALID/TEST");
-      gen.split = split;
+      gen.split = sph::parse_split(gen_split);
       gen.threads = thread_count(gen_threads);
       gen.stop = &g_stop_requested;
       gen.log = &std::cerr;

@@ -1,5 +1,6 @@
 // flush_subnormals_to_zero: afterwards every thread of the OpenMP team computes a product that
-// would be subnormal as zero, and reads a subnormal input as zero.
+// would be subnormal as zero, and reads a subnormal input as zero. FlushSubnormalsScope does so
+// for a scope and gives every thread its mode back.
 
 #include "sph/core/floating_point.h"
 
@@ -48,6 +49,26 @@ TEST(FloatingPoint, SubnormalsAreFlushedInEveryThread) {
     ASSERT_EQ(seen[t], 1) << "thread " << t << " did not run";
     EXPECT_EQ(product[t], 0.0f) << "thread " << t << ": a subnormal result was kept";
     EXPECT_EQ(doubled[t], 0.0f) << "thread " << t << ": a subnormal input was used";
+  }
+}
+
+TEST(FloatingPoint, AScopeFlushesAndGivesEveryThreadItsModeBack) {
+  const int threads_before = omp_get_max_threads();
+  omp_set_num_threads(2);
+  std::vector<unsigned> before(2, 0), inside(2, 0), after(2, 0);
+#pragma omp parallel num_threads(2)
+  before[size_t(omp_get_thread_num())] = _mm_getcsr();
+  {
+    const FlushSubnormalsScope flushed;
+#pragma omp parallel num_threads(2)
+    inside[size_t(omp_get_thread_num())] = _mm_getcsr();
+  }
+#pragma omp parallel num_threads(2)
+  after[size_t(omp_get_thread_num())] = _mm_getcsr();
+  omp_set_num_threads(threads_before);
+  for (size_t t = 0; t < 2; ++t) {
+    EXPECT_EQ(inside[t] & 0x8040u, 0x8040u) << "thread " << t << " was not flushed";
+    EXPECT_EQ(after[t], before[t]) << "thread " << t << " kept another mode";
   }
 }
 
