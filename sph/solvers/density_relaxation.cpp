@@ -70,10 +70,14 @@ std::pair<CompressionStats, CompressionStats> DensityRelaxation::relax(
     pressure_terms::compute_factors(neighbourhood_, ratio_, n, alpha_);
     for (Index i = 0; i < n; ++i)
       s_[size_t(i)] = std::max(fluid.density[i] - Real(1), Real(0)) * alpha_[size_t(i)];
-    // dt = 1: the velocity change of a unit step is the position change of any step.
+    // dt = 1: the velocity change of a unit step is the position change of any step. A particle
+    // the correction would push out of the domain stops at its edge (the next search needs it
+    // inside; a strongly compressed learned frame near an open top can push one out).
+    const Aabb& domain = reference_.domain();
     pressure_terms::stiffness_velocity_change(
-        neighbourhood_, s_, ratio_, Real(1), n,
-        [&](Index i, const Vec3& dx) { fluid.position[i] += dx; });
+        neighbourhood_, s_, ratio_, Real(1), n, [&](Index i, const Vec3& dx) {
+          fluid.position[i] = (fluid.position[i] + dx).cwiseMax(domain.min).cwiseMin(domain.max);
+        });
   }
   if (iterations > 0 && n > 0) neighbourhood_.update(fluid, reference_.boundary());
   const CompressionStats after = compression(fluid);

@@ -51,6 +51,15 @@ TEST(DensityRelaxation, RemovesCompressionAndLeavesARestingFrameAlone) {
   // measure() agrees with what relax() reported, without moving anything.
   const auto measured = relaxation.measure(squeezed, water);
   EXPECT_NEAR(measured.mean, after.mean, 1e-9);
+  // A frame compressed against the top of the box: the correction keeps every particle inside
+  // the domain (a learned frame once pushed one out and stopped the rollout).
+  auto against_lid = rest;
+  for (auto& x : against_lid) x.z() = sph::Real(0.4) - (sph::Real(0.2) - x.z()) * sph::Real(0.3);
+  relaxation.relax(against_lid, water, 5);
+  for (const auto& x : against_lid) {
+    EXPECT_TRUE(x.allFinite());
+    EXPECT_LE(x.z(), sim.domain().max.z());
+  }
   // A particle outside the domain is left where it is.
   auto with_stray = rest;
   with_stray[0] = sph::Vec3(5, 5, 5);
