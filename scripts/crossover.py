@@ -3,8 +3,8 @@
 outputs at several frame intervals and the simulator's own speed on the same scene and threads.
 
 Usage:
-  scripts/crossover.py [--sph-stats RUN/stats.json] --out docs/results/crossover \
-      STEPS:COMPARISON.json [STEPS:COMPARISON.json ...]
+  scripts/crossover.py [--sph-metadata DATA/metadata.json] [--timing COMPARISON.json ...] \
+      --out docs/results/crossover STEPS:COMPARISON.json [STEPS:COMPARISON.json ...]
 
 STEPS is the number of solver steps per frame of that dataset (10, 20, 40); each comparison may
 come with or without --relax (its relax_iterations says which); rows are kept apart by it.
@@ -13,8 +13,12 @@ IoU 1 s and 2 s of simulated time after the rollout's start (the frame nearest t
 from the comparison's by_frame series), the mean compression of the predicted frames, and the
 seconds of wall time per simulated second against MTDF-SPH's: by default the comparisons' own
 figure (the simulator's time for the same recorded frames when the datasets were generated,
-averaged over the comparisons), or with --sph-stats a run's stats.json (wall_s / simulated_s,
-which includes the warm-up before the leak). Needs only the Python standard library.
+averaged over the comparisons), or with --sph-metadata the metadata.json of a dataset generated
+for timing (its sph_seconds_per_frame over dt). Likewise each model's time per frame comes from
+its own comparison unless --timing gives comparisons run for timing (on a quiet machine, on the
+threads to report): a learned frame costs the same whatever the interval it spans (the same
+particles and graph), so seconds per simulated second = seconds per frame / frame_dt. Needs only
+the Python standard library.
 """
 import argparse
 import json
@@ -88,8 +92,9 @@ def fmt(v, digits=3):
 
 def main(argv):
     p = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    p.add_argument("--sph-stats", help="stats.json of spill-sim run on the scene (default: the "
-                   "comparisons' sph figure)")
+    p.add_argument("--sph-metadata", help="metadata.json of a dataset generated for timing "
+                   "(default: the comparisons' sph figure)")
+    p.add_argument("--timing", nargs="*", default=[], help="comparison.json files run for timing")
     p.add_argument("--out", required=True, help="output path without extension")
     p.add_argument("comparisons", nargs="+", help="STEPS:comparison.json")
     a = p.parse_args(argv)
@@ -116,11 +121,27 @@ def main(argv):
                 "seconds_per_simulated_second": m["seconds_per_simulated_second"],
                 "trajectories": len(c["trajectories"]), "threads": c.get("threads"),
                 "source": path})
-    if a.sph_stats:
-        with open(a.sph_stats) as f:
-            summary = json.load(f)["summary"]
-        sph_rate, sph_source = summary["wall_s"] / summary["simulated_s"], a.sph_stats
-        sph_threads = summary.get("threads")
+    timing = {}  # (model, relax) -> seconds per frame
+    timing_threads = None
+    for path in a.timing:
+        with open(path) as f:
+            c = json.load(f)
+        timing_threads = c.get("threads")
+        for m in c["models"]:
+            timing[(m["model"], c.get("relax_iterations", 0))] = m["seconds_per_frame"]
+    for r in rows:
+        key = (r["model"], r["relax_iterations"])
+        if key in timing:
+            r["seconds_per_simulated_second"] = timing[key] / r["frame_dt"]
+            r["threads"] = timing_threads
+    if a.sph_metadata:
+        with open(a.sph_metadata) as f:
+            meta = json.load(f)
+        per_frame = [t["sph_seconds_per_frame"] for t in meta["trajectories"]
+                     if t.get("sph_seconds_per_frame")]
+        sph_rate = sum(per_frame) / len(per_frame) / meta["dt"]
+        sph_source = a.sph_metadata
+        sph_threads = meta.get("generation", {}).get("threads")
     else:
         if not sph_rates:
             sys.exit("crossover.py: no comparison records the SPH's time; give --sph-stats")
