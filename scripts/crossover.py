@@ -94,6 +94,8 @@ def main(argv):
     p = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     p.add_argument("--sph-metadata", help="metadata.json of a dataset generated for timing "
                    "(default: the comparisons' sph figure)")
+    p.add_argument("--sph-metadata-more", nargs="*", default=[],
+                   help="further timing datasets' metadata.json, averaged with the first")
     p.add_argument("--timing", nargs="*", default=[], help="comparison.json files run for timing")
     p.add_argument("--out", required=True, help="output path without extension")
     p.add_argument("comparisons", nargs="+", help="STEPS:comparison.json")
@@ -121,14 +123,16 @@ def main(argv):
                 "seconds_per_simulated_second": m["seconds_per_simulated_second"],
                 "trajectories": len(c["trajectories"]), "threads": c.get("threads"),
                 "source": path})
-    timing = {}  # (model, relax) -> seconds per frame
+    timing = {}  # (model, relax) -> seconds per frame, the mean over the timing runs
     timing_threads = None
     for path in a.timing:
         with open(path) as f:
             c = json.load(f)
         timing_threads = c.get("threads")
         for m in c["models"]:
-            timing[(m["model"], c.get("relax_iterations", 0))] = m["seconds_per_frame"]
+            timing.setdefault((m["model"], c.get("relax_iterations", 0)), []).append(
+                m["seconds_per_frame"])
+    timing = {k: sum(v) / len(v) for k, v in timing.items()}
     for r in rows:
         key = (r["model"], r["relax_iterations"])
         if key in timing:
@@ -139,6 +143,10 @@ def main(argv):
             meta = json.load(f)
         per_frame = [t["sph_seconds_per_frame"] for t in meta["trajectories"]
                      if t.get("sph_seconds_per_frame")]
+        for extra in a.sph_metadata_more:
+            with open(extra) as f:
+                per_frame += [t["sph_seconds_per_frame"] for t in json.load(f)["trajectories"]
+                              if t.get("sph_seconds_per_frame")]
         sph_rate = sum(per_frame) / len(per_frame) / meta["dt"]
         sph_source = a.sph_metadata
         sph_threads = meta.get("generation", {}).get("threads")
