@@ -108,9 +108,9 @@ std::map<std::string, Figure> figures_of(const std::vector<TrajectoryScores>& sc
     f["slick_area_error"].add(slick_area_error(s));
     f["front_distance_error_m"].add(front_distance_error(s));
     f["bank_contact_time_error_s"].add(bank_contact_time_error(s));
-    if (!s.compression_mean.empty()) {
-      f["compression_mean"].add(mean(s.compression_mean));
-      f["compression_p95"].add(mean(s.compression_p95));
+    if (!s.predicted.compression_mean.empty()) {
+      f["compression_mean"].add(mean(s.predicted.compression_mean));
+      f["compression_p95"].add(mean(s.predicted.compression_p95));
     }
     f["seconds_per_frame"].add(s.wall_s_per_frame);
     f["seconds_per_simulated_second"].add(s.wall_s_per_frame / frame_dt);
@@ -120,14 +120,15 @@ std::map<std::string, Figure> figures_of(const std::vector<TrajectoryScores>& sc
 
 std::vector<double> mean_by_frame(const std::vector<TrajectoryScores>& scores,
                                   std::vector<double> TrajectoryScores::*series) {
-  std::vector<double> sum, count;
+  size_t longest = 0;
+  for (const auto& s : scores) longest = std::max(longest, (s.*series).size());
+  std::vector<double> sum(longest, 0.0), count(longest, 0.0);
   for (const auto& s : scores)
     for (size_t k = 0; k < (s.*series).size(); ++k) {
-      if (sum.size() <= k) sum.resize(k + 1, 0.0), count.resize(k + 1, 0.0);
       sum[k] += (s.*series)[k];
       count[k] += 1;
     }
-  for (size_t k = 0; k < sum.size(); ++k) sum[k] /= count[k];
+  for (size_t k = 0; k < longest; ++k) sum[k] /= count[k];
   return sum;
 }
 
@@ -164,6 +165,7 @@ void run_compare(const CompareOptions& o) {
     throw gnn::DatasetError(o.data_dir + "/" + o.split + ".h5: no trajectories");
   std::vector<int64_t> frames;
   std::vector<std::unique_ptr<gnn::SpillScene>> scenes;
+  std::vector<FrameMeasures> recorded;  // the same for every model: measured once
   for (const auto& t : trajectories) {
     const int64_t available = t.frames() - 1 - o.from;
     if (o.from < 0 || available < 1)
@@ -171,6 +173,7 @@ void run_compare(const CompareOptions& o) {
                                std::to_string(t.frames()) + " frames");
     frames.push_back(o.frames > 0 ? std::min<int64_t>(o.frames, available) : available);
     scenes.push_back(spill_scene_of(t, o.log));
+    recorded.push_back(recorded_measures(scenes.back().get(), t, o.from, frames.back()));
   }
 
   std::unique_ptr<common::ProgressReporter> progress;
@@ -180,7 +183,6 @@ void run_compare(const CompareOptions& o) {
   nlohmann::json rows = nlohmann::json::array();
   std::vector<std::map<std::string, Figure>> figures;
   std::vector<gnn::RolloutResult> pictured;  // each model's rollout of the first trajectory
-  std::vector<std::vector<TrajectoryScores>> all_scores;
   long done = 0;
   for (auto& model : models) {
     gnn::LearnedSimulator& sim = *model.simulator;
@@ -191,8 +193,8 @@ void run_compare(const CompareOptions& o) {
     std::vector<TrajectoryScores> scores;
     for (size_t k = 0; k < trajectories.size(); ++k) {
       gnn::RolloutResult kept;
-      scores.push_back(score_rollout(sim, trajectories[k], m, scenes[k].get(), o.from, frames[k],
-                                     o.relax, k == 0 ? &kept : nullptr));
+      scores.push_back(score_rollout(sim, trajectories[k], m, scenes[k].get(), recorded[k], o.from,
+                                     frames[k], o.relax, k == 0 ? &kept : nullptr));
       if (k == 0) pictured.push_back(std::move(kept));
       if (progress) progress->update(++done, model.name + " " + trajectories[k].source);
     }
@@ -206,7 +208,6 @@ void run_compare(const CompareOptions& o) {
     int64_t params = 0;
     for (const auto& p : sim.model().parameters()) params += p.numel();
     figures.push_back(figures_of(scores, m.frame_dt));
-    all_scores.push_back(scores);
     nlohmann::json row = {{"name", model.name},
                           {"model", sim.model().name()},
                           {"checkpoint", model.source},
@@ -231,11 +232,11 @@ void run_compare(const CompareOptions& o) {
   if (progress) progress->finish("");
 
   std::vector<double> sph_rates;
-  Figure sph_compression;  // the recorded frames' (the same in every model's scores)
+  Figure sph_compression;  // the recorded frames'
   nlohmann::json sources = nlohmann::json::array();
   for (size_t k = 0; k < trajectories.size(); ++k) {
-    if (!all_scores.front()[k].true_compression_mean.empty())
-      sph_compression.add(mean(all_scores.front()[k].true_compression_mean));
+    if (!recorded[k].compression_mean.empty())
+      sph_compression.add(mean(recorded[k].compression_mean));
     if (trajectories[k].sph_seconds_per_frame > 0)
       sph_rates.push_back(trajectories[k].sph_seconds_per_frame / m.frame_dt);
     sources.push_back({{"source", trajectories[k].source}, {"frames", frames[k]}});

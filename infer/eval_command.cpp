@@ -1,15 +1,10 @@
 #include <filesystem>
 #include <fstream>
-#include <map>
-#include <numeric>
 
 #include "common/checked_file.h"
 #include "common/exit_codes.h"
 #include "common/progress.h"
 #include "common/svg_plot.h"
-#include "gnn/data/frame_window.h"
-#include "gnn/eval/metrics.h"
-#include "gnn/eval/rollout.h"
 #include "infer/commands.h"
 #include "infer/loaded_data.h"
 #include "infer/trajectory_scores.h"
@@ -25,21 +20,36 @@ nlohmann::json optional_json(const std::optional<double>& v) {
   return v ? nlohmann::json(*v) : nlohmann::json(nullptr);
 }
 
-// Per horizon (and "all" = mean over every rollout frame), averaged over trajectories that reach
-// the horizon.
-nlohmann::json by_horizon(const std::vector<TrajectoryScores>& scores,
-                          std::vector<double> TrajectoryScores::*series) {
+// Per horizon (and "all" = mean over every rollout frame) of one per-frame series per
+// trajectory, averaged over the trajectories that reach the horizon.
+nlohmann::json by_horizon(const std::vector<const std::vector<double>*>& series) {
   nlohmann::json out = nlohmann::json::object();
   for (int64_t h : kHorizons) {
     std::vector<double> values;
-    for (const auto& s : scores)
-      if (int64_t((s.*series).size()) >= h) values.push_back((s.*series)[size_t(h - 1)]);
+    for (const auto* s : series)
+      if (int64_t(s->size()) >= h) values.push_back((*s)[size_t(h - 1)]);
     if (!values.empty()) out[std::to_string(h)] = mean(values);
   }
   std::vector<double> all;
-  for (const auto& s : scores) all.push_back(mean(s.*series));
+  for (const auto* s : series) all.push_back(mean(*s));
   out["all"] = mean(all);
   return out;
+}
+
+nlohmann::json by_horizon(const std::vector<TrajectoryScores>& scores,
+                          std::vector<double> TrajectoryScores::*series) {
+  std::vector<const std::vector<double>*> each;
+  for (const auto& s : scores) each.push_back(&(s.*series));
+  return by_horizon(each);
+}
+
+// A series of one side's measures (FrameMeasures), e.g. the prediction's compression.
+nlohmann::json by_horizon(const std::vector<TrajectoryScores>& scores,
+                          FrameMeasures TrajectoryScores::*side,
+                          std::vector<double> FrameMeasures::*series) {
+  std::vector<const std::vector<double>*> each;
+  for (const auto& s : scores) each.push_back(&(s.*side.*series));
+  return by_horizon(each);
 }
 
 }  // namespace
@@ -69,7 +79,8 @@ void run_eval(const EvalOptions& o) {
                                std::to_string(t.frames()) + " frames");
     const int64_t frames = o.frames > 0 ? std::min<int64_t>(o.frames, available) : available;
     const auto scene = spill_scene_of(t, o.common.log);
-    scores.push_back(score_rollout(*d.checkpoint.simulator, t, d.metadata, scene.get(), o.from,
+    scores.push_back(score_rollout(*d.checkpoint.simulator, t, d.metadata, scene.get(),
+                                   recorded_measures(scene.get(), t, o.from, frames), o.from,
                                    frames, o.common.relax));
     const auto& s = scores.back();
     per_trajectory.push_back(
@@ -118,9 +129,12 @@ void run_eval(const EvalOptions& o) {
       {"sph_seconds_per_frame", mean(sph)},
       {"threads", o.common.threads},
       {"relax_iterations", o.common.relax},
-      {"compression_mean", by_horizon(scores, &TrajectoryScores::compression_mean)},
-      {"compression_p95", by_horizon(scores, &TrajectoryScores::compression_p95)},
-      {"recorded_compression_mean", by_horizon(scores, &TrajectoryScores::true_compression_mean)},
+      {"compression_mean",
+       by_horizon(scores, &TrajectoryScores::predicted, &FrameMeasures::compression_mean)},
+      {"compression_p95",
+       by_horizon(scores, &TrajectoryScores::predicted, &FrameMeasures::compression_p95)},
+      {"recorded_compression_mean",
+       by_horizon(scores, &TrajectoryScores::recorded, &FrameMeasures::compression_mean)},
       {"per_trajectory", per_trajectory}};
 
   const fs::path out = output.staging();

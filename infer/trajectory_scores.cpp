@@ -19,17 +19,14 @@ torch::Tensor frame_velocity(const torch::Tensor& position, const torch::Tensor&
   return (position[k] - position[k - 1]) / dt;
 }
 
-// The spill measures of frames 1..F of one side (truth or prediction).
-struct OilSeries {
-  std::vector<double> area, front;
-  std::optional<double> bank[2];
-};
-
-OilSeries oil_series(const gnn::SpillScene& scene, const torch::Tensor& position,
-                     const torch::Tensor& active, const torch::Tensor& fraction,
-                     const torch::Tensor& time) {
-  OilSeries out;
+// The measures of frames 1..F of one side (truth or prediction); frame 0 starts the river's
+// bank record.
+FrameMeasures measure_frames(gnn::SpillScene& scene, const torch::Tensor& position,
+                             const torch::Tensor& active, const torch::Tensor& fraction,
+                             const torch::Tensor& time) {
+  FrameMeasures out;
   auto river = scene.river_metrics();
+  sph::DensityRelaxation& density = scene.relaxation();
   const double t0 = time[0].item<double>();
   for (int64_t k = 0; k < position.size(0); ++k) {
     const sph::FluidParticles fluid =
@@ -40,11 +37,17 @@ OilSeries oil_series(const gnn::SpillScene& scene, const torch::Tensor& position
       if (f.left_bank_m > 0 && !out.bank[0]) out.bank[0] = t;
       if (f.right_bank_m > 0 && !out.bank[1]) out.bank[1] = t;
       if (k > 0) {
-        out.area.push_back(f.slick_area_m2);
+        out.slick_area.push_back(f.slick_area_m2);
         out.front.push_back(f.front_distance_m);
       }
     } else if (k > 0) {
-      out.area.push_back(sph::measure_slick(fluid, sph::Real(scene.cell())).area_m2);
+      out.slick_area.push_back(sph::measure_slick(fluid, sph::Real(scene.cell())).area_m2);
+    }
+    if (k > 0) {
+      // fluid_of_frame holds the active particles only.
+      const sph::CompressionStats c = density.measure(fluid.position, fluid.oil_fraction);
+      out.compression_mean.push_back(c.mean);
+      out.compression_p95.push_back(c.p95);
     }
   }
   return out;
@@ -52,9 +55,18 @@ OilSeries oil_series(const gnn::SpillScene& scene, const torch::Tensor& position
 
 }  // namespace
 
+FrameMeasures recorded_measures(gnn::SpillScene* scene, const gnn::Trajectory& t, int64_t from,
+                                int64_t frames) {
+  if (!scene) return {};
+  const auto span = [&](const torch::Tensor& x) { return x.slice(0, from, from + frames + 1); };
+  return measure_frames(*scene, span(t.position), span(t.active), span(t.oil_fraction),
+                        span(t.time));
+}
+
 TrajectoryScores score_rollout(gnn::LearnedSimulator& sim, const gnn::Trajectory& t,
-                               const gnn::DatasetMetadata& m, gnn::SpillScene* scene, int64_t from,
-                               int64_t frames, int relax_iterations, gnn::RolloutResult* kept) {
+                               const gnn::DatasetMetadata& m, gnn::SpillScene* scene,
+                               const FrameMeasures& recorded, int64_t from, int64_t frames,
+                               int relax_iterations, gnn::RolloutResult* kept) {
   TrajectoryScores s;
   std::vector<int64_t> one_step_frames;
   const int64_t first = gnn::kWindow - 1, last = t.frames() - 2;
@@ -89,33 +101,8 @@ TrajectoryScores score_rollout(gnn::LearnedSimulator& sim, const gnn::Trajectory
   }
   const auto time = t.time.slice(0, from, from + frames + 1);
   s.rollout_seconds = (time[frames] - time[0]).item<double>();
-  if (scene) {
-    const OilSeries true_oil = oil_series(*scene, truth, truth_active, truth_fraction, time);
-    const OilSeries predicted = oil_series(*scene, r.position, r.active, r.oil_fraction, time);
-    s.slick_area_true = true_oil.area;
-    s.slick_area_predicted = predicted.area;
-    s.front_true = true_oil.front;
-    s.front_predicted = predicted.front;
-    for (int b = 0; b < 2; ++b) {
-      s.bank_true[b] = true_oil.bank[b];
-      s.bank_predicted[b] = predicted.bank[b];
-    }
-    sph::DensityRelaxation& density = scene->relaxation();
-    auto measure = [&](const torch::Tensor& x, const torch::Tensor& active,
-                       const torch::Tensor& fraction) {
-      const auto ids = active.nonzero().view(-1);
-      return density.measure(gnn::vectors_of(x.index_select(0, ids)),
-                             gnn::reals_of(fraction.index_select(0, ids)));
-    };
-    for (int64_t k = 1; k <= frames; ++k) {
-      const sph::CompressionStats p = measure(r.position[k], r.active[k], r.oil_fraction[k]);
-      const sph::CompressionStats q = measure(truth[k], truth_active[k], truth_fraction[k]);
-      s.compression_mean.push_back(p.mean);
-      s.compression_p95.push_back(p.p95);
-      s.true_compression_mean.push_back(q.mean);
-      s.true_compression_p95.push_back(q.p95);
-    }
-  }
+  s.recorded = recorded;
+  if (scene) s.predicted = measure_frames(*scene, r.position, r.active, r.oil_fraction, time);
   s.wall_s_per_frame =
       std::accumulate(r.frame_seconds.begin(), r.frame_seconds.end(), 0.0) / double(frames);
   s.sph_seconds_per_frame = t.sph_seconds_per_frame;
@@ -125,30 +112,31 @@ TrajectoryScores score_rollout(gnn::LearnedSimulator& sim, const gnn::Trajectory
 
 std::optional<double> slick_area_error(const TrajectoryScores& s) {
   std::vector<double> errors;
-  for (size_t k = 0; k < s.slick_area_true.size(); ++k)
-    if (s.slick_area_true[k] > 0)
-      errors.push_back(std::abs(s.slick_area_predicted[k] - s.slick_area_true[k]) /
-                       s.slick_area_true[k]);
+  const auto& truth = s.recorded.slick_area;
+  for (size_t k = 0; k < truth.size() && k < s.predicted.slick_area.size(); ++k)
+    if (truth[k] > 0) errors.push_back(std::abs(s.predicted.slick_area[k] - truth[k]) / truth[k]);
   if (errors.empty()) return std::nullopt;
   return mean(errors);
 }
 
 std::optional<double> front_distance_error(const TrajectoryScores& s) {
-  if (s.front_true.empty()) return std::nullopt;
+  const auto& truth = s.recorded.front;
+  if (truth.empty() || s.predicted.front.size() != truth.size()) return std::nullopt;
   std::vector<double> errors;
-  for (size_t k = 0; k < s.front_true.size(); ++k)
-    errors.push_back(std::abs(s.front_predicted[k] - s.front_true[k]));
+  for (size_t k = 0; k < truth.size(); ++k)
+    errors.push_back(std::abs(s.predicted.front[k] - truth[k]));
   return mean(errors);
 }
 
 std::optional<double> bank_contact_time_error(const TrajectoryScores& s) {
   std::vector<double> errors;
   for (int b = 0; b < 2; ++b) {
-    if (s.bank_true[b] && s.bank_predicted[b])
-      errors.push_back(std::abs(*s.bank_predicted[b] - *s.bank_true[b]));
-    else if (s.bank_true[b] || s.bank_predicted[b])
-      errors.push_back(s.rollout_seconds -
-                       (s.bank_true[b] ? *s.bank_true[b] : *s.bank_predicted[b]));
+    const auto& truth = s.recorded.bank[b];
+    const auto& predicted = s.predicted.bank[b];
+    if (truth && predicted)
+      errors.push_back(std::abs(*predicted - *truth));
+    else if (truth || predicted)
+      errors.push_back(s.rollout_seconds - (truth ? *truth : *predicted));
   }
   if (errors.empty()) return std::nullopt;
   return mean(errors);

@@ -18,33 +18,39 @@
 
 namespace infer {
 
+// What spill.json's code and the density measure say of one side's frames 1..F (empty without
+// the dataset's scene): slick area (m^2); for rivers the leading edge downstream of the leak (m)
+// and the first time (s after the rollout's start) each bank (left, right) was touched, if it
+// was; the compression max(rho/rho0 - 1, 0), mean and 95th percentile over the particles.
+struct FrameMeasures {
+  std::vector<double> slick_area, front;
+  std::optional<double> bank[2];
+  std::vector<double> compression_mean, compression_p95;
+};
+
+// The recording's measures over frames from+1 .. from+frames of `t`: the same for every model, so
+// taken once per trajectory and handed to score_rollout.
+FrameMeasures recorded_measures(gnn::SpillScene* scene, const gnn::Trajectory& t, int64_t from,
+                                int64_t frames);
+
 struct TrajectoryScores {
   double one_step_mse = 0;
   std::vector<double> mse, mmd, ke_error, iou;  // per rollout frame 1..F
-  // Per rollout frame 1..F (empty without the dataset's scene): slick area (m^2) of the
-  // recording and of the prediction.
-  std::vector<double> slick_area_true, slick_area_predicted;
-  // River scenes only: the leading edge downstream of the leak (m) per frame 1..F, and the first
-  // time (s after the rollout's start) each bank (left, right) was touched, if it was.
-  std::vector<double> front_true, front_predicted;
-  std::optional<double> bank_true[2], bank_predicted[2];
-  // Compression max(rho/rho0 - 1, 0) of the predicted and the recorded frames 1..F (mean and 95th
-  // percentile over the particles; empty without the scene).
-  std::vector<double> compression_mean, compression_p95, true_compression_mean,
-      true_compression_p95;
-  double rollout_seconds = 0;  // simulated seconds the rollout spans
+  FrameMeasures recorded, predicted;            // spill and density measures of each side
+  double rollout_seconds = 0;                   // simulated seconds the rollout spans
   double wall_s_per_frame = 0, sph_seconds_per_frame = 0;
 };
 
-// Rolls `simulator` out over frames from+1 .. from+frames of `t` and scores it; `scene` (may be
-// null) gives the particle volume and the river for the oil measures and the density
+// Rolls `simulator` out over frames from+1 .. from+frames of `t` and scores it against the
+// recording, whose measures `recorded` are recorded_measures(scene, t, from, frames); `scene`
+// (may be null) gives the particle volume and the river for the oil measures and the density
 // correction: with `relax_iterations` > 0 every learned frame gets that many iterations of it
 // (gnn/eval/spill_measures.h, sph/solvers/density_relaxation.h). `kept` receives the rollout
 // when given.
 TrajectoryScores score_rollout(gnn::LearnedSimulator& simulator, const gnn::Trajectory& t,
-                               const gnn::DatasetMetadata& m, gnn::SpillScene* scene, int64_t from,
-                               int64_t frames, int relax_iterations = 0,
-                               gnn::RolloutResult* kept = nullptr);
+                               const gnn::DatasetMetadata& m, gnn::SpillScene* scene,
+                               const FrameMeasures& recorded, int64_t from, int64_t frames,
+                               int relax_iterations = 0, gnn::RolloutResult* kept = nullptr);
 
 // The hook that relaxes each learned frame by `iterations` of the scene's density correction;
 // empty for 0. Throws common::InputError when iterations > 0 and there is no scene.
