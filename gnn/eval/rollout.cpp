@@ -46,8 +46,8 @@ RolloutResult rollout(LearnedSimulator& simulator, const Trajectory& t, int64_t 
     for (int64_t i = 0; i < launched.size(0); ++i) {
       const int64_t p = launched[i].item<int64_t>();
       history[p] = launched_history(t, frame + 1, p, frame_dt);
-      fraction[p] = t.oil_fraction[frame + 1][p];
     }
+    fraction.index_copy_(0, launched, t.oil_fraction[frame + 1].index_select(0, launched));
     active.logical_or_(recorded);
     out.position[k + 1] =
         torch::where(active.unsqueeze(1), history.select(1, kWindow - 1), t.position[frame + 1]);
