@@ -1,7 +1,6 @@
 #include "gnn/eval/spill_measures.h"
 
 #include "sph/app/scene_runner.h"
-#include "sph/core/lattice.h"
 #include "sph/core/simulation.h"
 
 namespace gnn {
@@ -34,9 +33,6 @@ SpillScene::SpillScene(const Trajectory& t) {
     throw DatasetError(t.source +
                        ": the dataset's metadata.json has no \"scene\" to measure the spill with");
   scene_ = sph::parse_scene(t.scene, t.source + " (the dataset's scene)").config;
-  cell_ = double(scene_.particle_diameter());
-  particle_volume_ = double(sph::lattice_rest_volume(
-      sph::kernel_kind(scene_.kernel), scene_.support_radius(), scene_.particle_diameter()));
 }
 
 std::unique_ptr<sph::SpillMetrics> SpillScene::river_metrics() const {

@@ -32,8 +32,8 @@ class SpillScene {
  public:
   // Throws DatasetError naming `t.source` when the trajectory carries no scene.
   explicit SpillScene(const Trajectory& t);
-  double particle_volume() const { return particle_volume_; }
-  double cell() const { return cell_; }  // the particle diameter, m
+  double particle_volume() const { return double(sph::particle_rest_volume(scene_)); }
+  double cell() const { return double(scene_.particle_diameter()); }  // m
   // Fresh per-frame river spill measures (slick area, front, banks), as spill.json's; null when
   // the scene is not a river with a leak.
   std::unique_ptr<sph::SpillMetrics> river_metrics() const;
@@ -43,7 +43,6 @@ class SpillScene {
  private:
   sph::SceneConfig scene_;
   std::unique_ptr<sph::DensityRelaxation> relaxation_;
-  double particle_volume_ = 0, cell_ = 0;
 };
 
 }  // namespace gnn

@@ -47,11 +47,16 @@ void Simulation::fill_terrain_with_water(Real volume) {
     }
 }
 
+Real particle_rest_volume(const SceneConfig& scene) {
+  return lattice_rest_volume(kernel_kind(scene.kernel), scene.support_radius(),
+                             scene.particle_diameter());
+}
+
 Simulation::Simulation(const SceneConfig& scene)
     : scene_(scene), kernel_(kernel_kind(scene.kernel)) {
   boundary_ = build_boundary(scene_, kernel_);
   const Real spacing = scene_.particle_diameter();
-  const Real volume = lattice_rest_volume(kernel_, scene_.support_radius(), spacing);
+  const Real volume = particle_rest_volume(scene_);
   const MaterialsConfig& m = scene_.materials;
   for (const auto& block : scene_.fluid_blocks) {
     const PhaseMix mix = mix_phases(block.oil_fraction(), m.water.density, m.water.viscosity,

@@ -33,6 +33,10 @@ struct FrameStats {
 
 KernelKind kernel_kind(const std::string& name);
 
+// The rest volume of every fluid particle of `scene` (m^3): that of its lattice at the particle
+// spacing, so that a block at rest has rest density.
+Real particle_rest_volume(const SceneConfig& scene);
+
 class Simulation : private SolverHost {
  public:
   explicit Simulation(const SceneConfig& scene);

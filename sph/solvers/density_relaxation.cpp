@@ -2,23 +2,20 @@
 
 #include <algorithm>
 
-#include "sph/core/lattice.h"
 #include "sph/solvers/pressure_terms.h"
 
 namespace sph {
 
 DensityRelaxation::DensityRelaxation(const SceneConfig& scene)
-    : scene_(scene),
-      reference_(scene),
-      volume_(lattice_rest_volume(kernel_kind(scene.kernel), scene.support_radius(),
-                                  scene.particle_diameter())),
+    : reference_(scene),
+      volume_(particle_rest_volume(scene)),
       neighbourhood_(reference_.domain(), kernel_kind(scene.kernel), scene.support_radius(),
                      reference_.boundary()) {}
 
 FluidParticles DensityRelaxation::fluid_of(const std::vector<Vec3>& positions,
                                            const std::vector<Real>& oil_fraction,
                                            std::vector<size_t>& inside) {
-  const MaterialsConfig& m = scene_.materials;
+  const MaterialsConfig& m = reference_.scene().materials;
   const Aabb& domain = reference_.domain();
   FluidParticles fluid;
   inside.clear();
@@ -64,7 +61,7 @@ std::pair<CompressionStats, CompressionStats> DensityRelaxation::relax(
   const Index n = fluid.active_count();
   for (int k = 0; k < iterations && n > 0; ++k) {
     if (k > 0) neighbourhood_.update(fluid, reference_.boundary());
-    pressure_terms::density_ratios(fluid, scene_.materials.water.density, ratio_);
+    pressure_terms::density_ratios(fluid, reference_.scene().materials.water.density, ratio_);
     alpha_.resize(size_t(n));
     s_.resize(size_t(n));
     pressure_terms::compute_factors(neighbourhood_, ratio_, n, alpha_);

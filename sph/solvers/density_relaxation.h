@@ -44,8 +44,7 @@ class DensityRelaxation {
                           std::vector<size_t>& inside);
   CompressionStats compression(const FluidParticles& fluid) const;
 
-  SceneConfig scene_;
-  Simulation reference_;  // the scene's boundary, domain and kernel
+  Simulation reference_;  // the scene, its boundary, domain and kernel
   Real volume_;
   ParticleNeighbourhood neighbourhood_;
   std::vector<Real> ratio_, alpha_, s_;
