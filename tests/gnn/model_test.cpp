@@ -22,6 +22,7 @@
 #include "sph/core/simulation.h"
 #include "sph/io/tensor_recorder.h"
 #include "tests/gnn/tiny_dataset.h"
+#include "tests/gnn/training_log.h"
 #include "train/trainer.h"
 
 namespace fs = std::filesystem;
@@ -70,20 +71,6 @@ struct Tiny {
             trajectory.boundary};
   }
 };
-
-// log.csv rows without the timing columns (elapsed_s, steps_per_s).
-std::vector<std::string> log_rows_without_timing(const fs::path& file) {
-  std::ifstream in(file);
-  std::vector<std::string> rows;
-  for (std::string line; std::getline(in, line);) {
-    std::vector<std::string> cells;
-    std::stringstream s(line);
-    for (std::string c; std::getline(s, c, ',');) cells.push_back(c);
-    while (cells.size() < 7) cells.push_back("");
-    rows.push_back(cells[0] + "," + cells[1] + "," + cells[2] + "," + cells[5] + "," + cells[6]);
-  }
-  return rows;
-}
 
 train::TrainerOptions options(const Tiny& data, const fs::path& out, int steps,
                               std::vector<std::string> extra = {},
@@ -237,7 +224,7 @@ TEST(Training, OverfitsATinyDatasetLossFallsTenfold) {
   const fs::path out = data.dir / "run";
   train::Trainer trainer(options(data, out, 300, {"/model/noise_std=0"}));
   trainer.run();
-  auto rows = log_rows_without_timing(out / "log.csv");
+  auto rows = training_log::rows_without_timing(out / "log.csv");
   ASSERT_GE(rows.size(), 3u);
   EXPECT_NE(rows[0].find("loss"), std::string::npos);
   const double first = std::stod(rows[1].substr(rows[1].find(',') + 1));
@@ -257,8 +244,8 @@ TEST(Training, ResumeEqualsAnUninterruptedRun) {
   auto resumed = options(data, split, 40, short_schedule);
   resumed.resume = true;
   train::Trainer(resumed).run();
-  auto a = log_rows_without_timing(straight / "log.csv");
-  auto b = log_rows_without_timing(split / "log.csv");
+  auto a = training_log::rows_without_timing(straight / "log.csv");
+  auto b = training_log::rows_without_timing(split / "log.csv");
   ASSERT_EQ(a.size(), 9u);  // header + 8 rows
   EXPECT_EQ(a, b);
   // A second fresh run into the same folder is refused rather than overwriting it.
@@ -277,7 +264,7 @@ TEST(Training, ResumeEqualsAnUninterruptedRun) {
     EXPECT_NE(m.find("/model/latent"), std::string::npos) << m;
     EXPECT_NE(m.find("only /steps may change"), std::string::npos) << m;
   }
-  EXPECT_EQ(log_rows_without_timing(split / "log.csv"), b) << "the run is untouched";
+  EXPECT_EQ(training_log::rows_without_timing(split / "log.csv"), b) << "the run is untouched";
 }
 
 TEST(SegmentOps, MatchPlainGatherAndScatterInValueAndGradient) {
@@ -428,7 +415,7 @@ TEST(InProcess, RecorderTensorsTrainAndRollOutWithoutAFile) {
 
 // The training loss of the first and of the last log.csv row.
 std::pair<double, double> first_and_last_loss(const fs::path& log) {
-  auto rows = log_rows_without_timing(log);
+  auto rows = training_log::rows_without_timing(log);
   EXPECT_GE(rows.size(), 3u);
   if (rows.size() < 3) return {0, 0};
   auto loss = [](const std::string& row) { return std::stod(row.substr(row.find(',') + 1)); };

@@ -17,6 +17,7 @@
 #include "gnn/data/simulated_dataset.h"
 #include "gnn/training/checkpoint.h"
 #include "sph/app/dataset_generator.h"
+#include "tests/gnn/training_log.h"
 
 namespace fs = std::filesystem;
 
@@ -49,20 +50,6 @@ Ran run(const std::string& command, const fs::path& dir) {
   s << in.rdbuf();
   r.err = s.str();
   return r;
-}
-
-// log.csv rows without the timing columns (elapsed_s, steps_per_s).
-std::vector<std::string> log_rows(const fs::path& file) {
-  std::ifstream in(file);
-  std::vector<std::string> rows;
-  for (std::string line; std::getline(in, line);) {
-    std::vector<std::string> cells;
-    std::stringstream s(line);
-    for (std::string c; std::getline(s, c, ',');) cells.push_back(c);
-    while (cells.size() < 7) cells.push_back("");
-    rows.push_back(cells[0] + "," + cells[1] + "," + cells[2] + "," + cells[5] + "," + cells[6]);
-  }
-  return rows;
 }
 
 nlohmann::json read_json(const fs::path& file) {
@@ -200,7 +187,7 @@ TEST_F(SceneTraining, TrainsFromASceneAsOnItsSavedDatasetAndResumes) {
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_NE(r.err.find("trajectory 3/3 (test)"), std::string::npos) << r.err;  // progress
   ASSERT_TRUE(fs::exists(from_scene / "last.pt"));
-  const auto rows = log_rows(from_scene / "log.csv");
+  const auto rows = training_log::rows_without_timing(from_scene / "log.csv");
   ASSERT_EQ(rows.size(), 5u);  // header and steps 5, 10, 15, 20
   const gnn::LoadedCheckpoint checkpoint = gnn::load_checkpoint((from_scene / "last.pt").string());
   EXPECT_EQ(checkpoint.state.step, 20);
@@ -219,20 +206,20 @@ TEST_F(SceneTraining, TrainsFromASceneAsOnItsSavedDatasetAndResumes) {
               from_data.string(),
           dir_);
   ASSERT_EQ(r.code, 0) << r.err;
-  EXPECT_EQ(log_rows(from_data / "log.csv"), rows);
+  EXPECT_EQ(training_log::rows_without_timing(from_data / "log.csv"), rows);
 
   // Interrupted at step 10 and resumed: the data simulated again are the same, and so is the log.
   const fs::path resumed = dir_ / "resumed";
   ASSERT_EQ(run(train + " --threads 1 --set /steps=10 --out " + resumed.string(), dir_).code, 0);
   r = run(train + " --threads 1 --set /steps=20 --resume --out " + resumed.string(), dir_);
   ASSERT_EQ(r.code, 0) << r.err;
-  EXPECT_EQ(log_rows(resumed / "log.csv"), rows);
+  EXPECT_EQ(training_log::rows_without_timing(resumed / "log.csv"), rows);
   // Other draws are other data: refused before anything changes, naming the setting.
   r = run(train_from_scene("8") + " --threads 1 --set /steps=30 --resume --out " + resumed.string(),
           dir_);
   EXPECT_EQ(r.code, 2);
   EXPECT_NE(r.err.find("/data/generation/seed"), std::string::npos) << r.err;
-  EXPECT_EQ(log_rows(resumed / "log.csv"), rows);
+  EXPECT_EQ(training_log::rows_without_timing(resumed / "log.csv"), rows);
   // A run trained on a folder is resumed with --data.
   r = run(train + " --threads 1 --set /steps=30 --resume --out " + from_data.string(), dir_);
   EXPECT_EQ(r.code, 2);
@@ -250,7 +237,8 @@ TEST_F(SceneTraining, TrainsFromASceneAsOnItsSavedDatasetAndResumes) {
           dir_);
   EXPECT_EQ(r.code, 2);
   EXPECT_NE(r.err.find("/data/fingerprint"), std::string::npos) << r.err;
-  EXPECT_EQ(log_rows(dir_ / "edited/log.csv").size(), 3u);  // header, steps 5 and 10
+  EXPECT_EQ(training_log::rows_without_timing(dir_ / "edited/log.csv").size(),
+            3u);  // header, steps 5 and 10
 
   // The simulation runs on every --threads thread, LibTorch's first operation notwithstanding.
   const fs::path two = dir_ / "two_threads";
