@@ -40,6 +40,8 @@ torch::Tensor DpiModel::propagate(const GraphInput& g, std::vector<torch::Tensor
                                   std::vector<torch::Tensor>* edge_latents) {
   const int64_t R = config_.relation_width, F = config_.effect_width, n = g.nodes();
   const EdgeOrder order = edge_order(g.edge_index, n);
+  if (!node_latents && !edge_latents && can_propagate_in_chunks(g, order))
+    return propagate_in_chunks(g, order);
 
   // Encoders. s: [n, kNodeFeatures + type_embedding]
   const auto s = torch::cat({g.node_features, type_embedding_->forward(g.node_type)}, 1);

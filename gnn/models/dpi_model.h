@@ -91,6 +91,8 @@ class DpiModel : public GraphModel {
   nlohmann::json config() const override;
   void set_normalisation(const Normalisation& normalisation) override;
   double flops(int64_t nodes, int64_t edges) const override;
+  // Inference runs in row chunks side by side (dpi_inference.cpp), as GNS's does.
+  bool infers_in_chunks() const override { return true; }
   const DpiConfig& dpi_config() const { return config_; }
 
   // The decoder's output alone, the normalised next velocity u [n, 3], for a checked graph
@@ -105,6 +107,10 @@ class DpiModel : public GraphModel {
   // u [n, 3], with the per-step effects appended to `node_latents` / `edge_latents` when given.
   torch::Tensor propagate(const GraphInput& graph, std::vector<torch::Tensor>* node_latents,
                           std::vector<torch::Tensor>* edge_latents);
+  // The same function without autograd in fewer passes over the edges (dpi_inference.cpp), for
+  // float32 CPU graphs whose edge order is canonical and when no latents are asked for.
+  bool can_propagate_in_chunks(const GraphInput& graph, const EdgeOrder& order) const;
+  torch::Tensor propagate_in_chunks(const GraphInput& graph, const EdgeOrder& order);
   DpiConfig config_;
   torch::nn::Embedding type_embedding_{nullptr};
   Mlp particle_encoder_{nullptr};

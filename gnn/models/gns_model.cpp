@@ -147,16 +147,6 @@ void add_bias_layer_norm(const float* x, const float* bias, const float* gamma, 
   }
 }
 
-// out[r] = a[ia[r]] + b[ib[r]] for rows of `width` floats: both gathers and their sum in one pass.
-void gather_pair_sum(const float* a, const float* b, const int64_t* ia, const int64_t* ib,
-                     float* out, int64_t rows, int64_t width) {
-  for (int64_t r = 0; r < rows; ++r, out += width) {
-    const float* x = a + ia[r] * width;
-    const float* y = b + ib[r] * width;
-    for (int64_t c = 0; c < width; ++c) out[c] = x[c] + y[c];
-  }
-}
-
 // The rest of an MLP on one chunk of rows: `x` holds its first layer's activated output, `y` is
 // scratch of the same shape; the LayerNorm'ed result is written to `out` (added with
 // `accumulate`).

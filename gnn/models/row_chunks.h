@@ -1,7 +1,8 @@
 #pragma once
 // Row chunks for the fused CPU passes of GNS (inference in gns_model.cpp, training in
-// gns_processor_step.cpp): an MLP's intermediates for one chunk of rows (kChunk x latent
-// floats) stay in the core's L2 cache between its matrix products and its element-wise passes.
+// gns_processor_step.cpp) and of DPI-Nets (inference in dpi_inference.cpp): an MLP's
+// intermediates for one chunk of rows (kChunk x latent floats) stay in the core's L2 cache
+// between its matrix products and its element-wise passes.
 
 #include <torch/torch.h>
 
@@ -36,6 +37,16 @@ inline void add_bias_relu(float* x, const float* bias, int64_t rows, int64_t wid
   for (int64_t r = 0; r < rows; ++r, x += width)
 #pragma omp simd
     for (int64_t c = 0; c < width; ++c) x[c] = std::max(x[c] + bias[c], 0.0f);
+}
+
+// out[r] = a[ia[r]] + b[ib[r]] for rows of `width` floats: both gathers and their sum in one pass.
+inline void gather_pair_sum(const float* a, const float* b, const int64_t* ia, const int64_t* ib,
+                            float* out, int64_t rows, int64_t width) {
+  for (int64_t r = 0; r < rows; ++r, out += width) {
+    const float* x = a + ia[r] * width;
+    const float* y = b + ib[r] * width;
+    for (int64_t c = 0; c < width; ++c) out[c] = x[c] + y[c];
+  }
 }
 
 }  // namespace gnn

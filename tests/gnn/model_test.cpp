@@ -312,6 +312,42 @@ TEST(GnsModel, InferenceInChunksEqualsTheAutogradPath) {
       << (with_grad - chunked).abs().max().item<float>();
 }
 
+// DPI-Nets' fused inference (dpi_inference.cpp) against its autograd path on the same weights
+// and graph (400 nodes, several chunks of 1,024 edges, 3 propagation steps, encoders of 2 hidden
+// layers), chunks side by side on 2 threads with BLAS on 1 and in turn with BLAS on 2: float32
+// sums in another order, so the outputs agree to 1e-4 relative, 1e-5 absolute.
+TEST(DpiModel, InferenceInChunksEqualsTheAutogradPath) {
+  const int blas_before = gnn::blas_threads(), threads_before = torch::get_num_threads();
+  torch::manual_seed(13);
+  auto points = torch::rand({400, 3});
+  auto graph = gnn::build_radius_graph(points, torch::zeros({0, 3}), 0.25);
+  ASSERT_GT(graph.edge_index.size(1), 3000);
+  gnn::GraphInput g;
+  g.node_features = torch::randn({400, gnn::kNodeFeatures});
+  g.node_type = torch::randint(0, 3, {400}, torch::kInt64);
+  g.edge_index = graph.edge_index;
+  g.edge_features = torch::randn({graph.edge_index.size(1), gnn::kEdgeFeatures});
+  g.fluid = torch::ones({400}, torch::kBool);
+  auto model = gnn::make_model({{"model", "dpi"},
+                                {"particle_width", 24},
+                                {"relation_width", 40},
+                                {"effect_width", 32},
+                                {"propagation_steps", 3}},
+                               "test");
+  auto& dpi = dynamic_cast<gnn::DpiModel&>(*model);
+  auto with_grad = dpi.next_velocity(g);
+  ASSERT_TRUE(with_grad.requires_grad());  // the plain path, with autograd
+  for (const gnn::RuntimeSettings mix : {gnn::RuntimeSettings{2, 1}, gnn::RuntimeSettings{1, 2}}) {
+    gnn::configure_runtime(mix);
+    torch::NoGradGuard no_grad;
+    auto chunked = dpi.next_velocity(g);
+    EXPECT_TRUE(torch::allclose(with_grad, chunked, 1e-4, 1e-5))
+        << mix.threads << " + " << mix.blas_threads << ": "
+        << (with_grad - chunked).abs().max().item<float>();
+  }
+  gnn::configure_runtime({threads_before, blas_before});
+}
+
 // The processor's hand-written backward (gns_processor_step.h) against LibTorch's autograd on
 // the same weights and graph (400 nodes, ~3,000 edges: three chunks of 1,024; 3 steps; MLPs of
 // 2 and of 3 hidden layers), with the chunks side by side on 2 threads (BLAS on 1) and one after
