@@ -77,7 +77,7 @@ nlohmann::json motion(const std::vector<gnn::Trajectory>& trajectories, double r
 }
 
 void run(const std::vector<std::string>& checkpoints, const std::string& data_dir,
-         const std::string& split, int threads, int frame_count) {
+         const std::string& split, int threads, int blas_threads, int frame_count) {
   const auto metadata =
       gnn::read_metadata((std::filesystem::path(data_dir) / "metadata.json").string());
   const auto trajectories = gnn::read_split(data_dir, split, metadata);
@@ -95,7 +95,9 @@ void run(const std::vector<std::string>& checkpoints, const std::string& data_di
     auto& simulator = *loaded.simulator;
     auto& model = simulator.model();
     model.eval();
-    const gnn::RuntimeSettings mix = gnn::inference_runtime(threads, model.infers_in_chunks());
+    const gnn::RuntimeSettings mix =
+        blas_threads > 0 ? gnn::RuntimeSettings{threads, blas_threads}
+                         : gnn::inference_runtime(threads, model.infers_in_chunks());
     gnn::configure_runtime(mix);
     torch::NoGradGuard no_grad;
     const double radius = model.radius();
@@ -167,15 +169,17 @@ int main(int argc, char** argv) {
   CLI::App app{"Benchmark of one learned frame on recorded frames (JSON on stdout)"};
   std::vector<std::string> checkpoints;
   std::string data_dir, split = "test";
-  int threads = 2, frame_count = 16;
+  int threads = 2, blas_threads = 0, frame_count = 16;
   app.add_option("--checkpoints", checkpoints, "checkpoints to time")->required();
   app.add_option("--data", data_dir, "dataset the checkpoints were trained on")->required();
   app.add_option("--split", split, "split to take the frames from");
   app.add_option("--threads", threads, "threads (each model on spill-infer's split)");
+  app.add_option("--blas-threads", blas_threads,
+                 "OpenBLAS threads (default: spill-infer's split for each model)");
   app.add_option("--frames", frame_count, "recorded frames timed per checkpoint");
   CLI11_PARSE(app, argc, argv);
   try {
-    run(checkpoints, data_dir, split, threads, frame_count);
+    run(checkpoints, data_dir, split, threads, blas_threads, frame_count);
   } catch (const std::exception& e) {
     std::cerr << "error: " << e.what() << "\n";
     return 1;
