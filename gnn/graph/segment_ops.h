@@ -27,6 +27,14 @@ torch::Tensor gather_senders(const torch::Tensor& values, const EdgeOrder& order
 torch::Tensor sum_to_receivers(const torch::Tensor& edge_values, const EdgeOrder& order,
                                int64_t nodes);
 
+// Softmax of `scores` [R, H] (H heads) over each receiver's rows, for rows listed receiver by
+// receiver: receiver i's rows are offsets[i] .. offsets[i+1] and receivers[r] is row r's
+// receiver ([R] int64, offsets [n + 1]) - the edges of one link type in TypedEdges' order
+// (heterogeneous_typing.h) for PAGATNet's attention. With autograd; the per-segment maximum it
+// subtracts for stability is a constant to it (softmax does not change under a shift).
+torch::Tensor segment_softmax(const torch::Tensor& scores, const torch::Tensor& receivers,
+                              const torch::Tensor& offsets);
+
 // Without autograd, for a canonical order and float32 CPU rows (hand-written backward passes):
 // out[i] = sum of the rows of `edge_values` whose receiver is i (resp. whose sender is i).
 torch::Tensor csr_sum_by_receiver(const torch::Tensor& edge_values, const EdgeOrder& order);
