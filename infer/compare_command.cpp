@@ -49,9 +49,10 @@ std::vector<ComparedModel> load_models(const CompareOptions& o, const gnn::Datas
     // The floor needs no training: built here with the dataset's own statistics.
     auto model = gnn::make_model(
         {{"model", "constant_velocity"}, {"radius", m.connectivity_radius}}, "--constant-velocity");
-    models.push_back({"constant_velocity", "built in",
-                      std::make_unique<gnn::LearnedSimulator>(
-                          model, gnn::Normalisation::from_metadata(m, 0.0, 0.0), m.bounds)});
+    models.push_back(
+        {"constant_velocity", "built in",
+         std::make_unique<gnn::LearnedSimulator>(
+             model, gnn::Normalisation::from_metadata(m, 0.0, 0.0), m.bounds, m.particle_radius)});
   }
   for (auto& model : models) {
     model.simulator->to(gnn::parse_device(o.device));

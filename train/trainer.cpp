@@ -131,7 +131,7 @@ Trainer::Trainer(TrainerOptions options, const std::function<TrainingData()>& lo
         model,
         gnn::Normalisation::from_metadata(metadata_, model->noise_std(),
                                           gnn::oil_fraction_change_rms(train_)),
-        metadata_.bounds);
+        metadata_.bounds, metadata_.particle_radius);
     state_.training_config = config_.training_json;
   }
   // A model without parameters (the constant-velocity floor) has nothing to learn: Adam would get

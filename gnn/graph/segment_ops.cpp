@@ -119,19 +119,24 @@ torch::Tensor sum_to_receivers(const torch::Tensor& edge_values, const EdgeOrder
   return SumToReceivers::apply(edge_values, o.receivers, o.offsets);
 }
 
+torch::Tensor segment_sum(const torch::Tensor& values, const torch::Tensor& receivers,
+                          const torch::Tensor& offsets) {
+  const int64_t nodes = offsets.size(0) - 1;
+  if (values.scalar_type() == torch::kFloat32 && values.is_cpu())
+    return SumToReceivers::apply(values, receivers, offsets);
+  return torch::zeros({nodes, values.size(1)}, values.options()).index_add_(0, receivers, values);
+}
+
 torch::Tensor segment_softmax(const torch::Tensor& scores, const torch::Tensor& receivers,
                               const torch::Tensor& offsets) {
-  const int64_t nodes = offsets.size(0) - 1;
   torch::Tensor largest;
   {
     torch::NoGradGuard no_grad;
     largest = at::segment_reduce(scores.detach(), "max", {}, {}, offsets);  // [n, H]
   }
   const auto shifted = torch::exp(scores - largest.index_select(0, receivers));
+  const auto denominator = segment_sum(shifted, receivers, offsets);
   const bool csr = scores.scalar_type() == torch::kFloat32 && scores.is_cpu();
-  const auto denominator = csr ? SumToReceivers::apply(shifted, receivers, offsets)
-                               : torch::zeros({nodes, scores.size(1)}, scores.options())
-                                     .index_add_(0, receivers, shifted);
   return shifted / (csr ? GatherReceivers::apply(denominator, receivers, offsets)
                         : denominator.index_select(0, receivers));
 }

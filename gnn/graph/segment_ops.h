@@ -35,6 +35,12 @@ torch::Tensor sum_to_receivers(const torch::Tensor& edge_values, const EdgeOrder
 torch::Tensor segment_softmax(const torch::Tensor& scores, const torch::Tensor& receivers,
                               const torch::Tensor& offsets);
 
+// Per-receiver sums of `values` [R, W] for rows listed receiver by receiver as above: out[i] is
+// the sum of rows offsets[i] .. offsets[i+1] ([n, W]). With autograd (the backward gathers by
+// `receivers`).
+torch::Tensor segment_sum(const torch::Tensor& values, const torch::Tensor& receivers,
+                          const torch::Tensor& offsets);
+
 // Without autograd, for a canonical order and float32 CPU rows (hand-written backward passes):
 // out[i] = sum of the rows of `edge_values` whose receiver is i (resp. whose sender is i).
 torch::Tensor csr_sum_by_receiver(const torch::Tensor& edge_values, const EdgeOrder& order);

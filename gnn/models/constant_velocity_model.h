@@ -10,6 +10,7 @@
 
 #include "common/param_spec.h"
 #include "gnn/models/graph_model.h"
+#include "gnn/models/model_keys.h"
 
 namespace gnn {
 
@@ -24,10 +25,7 @@ struct ConstantVelocityConfig {
   void describe(V& v) {
     using common::param;
     v.field("model", model, param("", "model name").one_of({"constant_velocity"}).require());
-    v.field("radius", radius, param("m", "connectivity radius of the graph").positive());
-    v.field(
-        "noise_std", noise_std,
-        param("m/frame", "std of the random-walk noise on the last input velocity").non_negative());
+    describe_input_keys(v, radius, noise_std);
   }
 };
 

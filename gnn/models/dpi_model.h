@@ -42,6 +42,7 @@
 #include "gnn/graph/segment_ops.h"
 #include "gnn/models/gns_model.h"  // Mlp
 #include "gnn/models/graph_model.h"
+#include "gnn/models/model_keys.h"
 
 namespace gnn {
 
@@ -70,12 +71,8 @@ struct DpiConfig {
             param("", "propagation steps L (shared weights)").at_least(1).at_most(20));
     v.field("encoder_hidden_layers", encoder_hidden_layers,
             param("", "hidden layers of the particle and relation encoders").at_least(1));
-    v.field("type_embedding", type_embedding,
-            param("", "size of the learned node-type embedding").at_least(1));
-    v.field("radius", radius, param("m", "connectivity radius of the graph").positive());
-    v.field(
-        "noise_std", noise_std,
-        param("m/frame", "std of the random-walk noise on the last input velocity").non_negative());
+    describe_type_embedding(v, type_embedding);
+    describe_input_keys(v, radius, noise_std);
   }
 };
 

@@ -14,6 +14,7 @@
 #include "common/param_spec.h"
 #include "gnn/graph/segment_ops.h"
 #include "gnn/models/graph_model.h"
+#include "gnn/models/model_keys.h"
 
 namespace gnn {
 
@@ -35,12 +36,8 @@ struct GnsConfig {
     v.field("layers", layers, param("", "message-passing steps of the processor").at_least(1));
     v.field("mlp_hidden_layers", mlp_hidden_layers,
             param("", "hidden layers of every MLP").at_least(1));
-    v.field("type_embedding", type_embedding,
-            param("", "size of the learned node-type embedding").at_least(1));
-    v.field("radius", radius, param("m", "connectivity radius of the graph").positive());
-    v.field(
-        "noise_std", noise_std,
-        param("m/frame", "std of the random-walk noise on the last input velocity").non_negative());
+    describe_type_embedding(v, type_embedding);
+    describe_input_keys(v, radius, noise_std);
   }
 };
 

@@ -61,6 +61,8 @@ class GraphModel : public torch::nn::Module {
   virtual double noise_std() const = 0;  // training noise on velocities, m per frame
   // Whether the model reads GraphInput::node_class and link_type (they are built only then).
   virtual bool needs_typing() const { return false; }
+  // The surface threshold gamma of that typing (gnn/graph/heterogeneous_typing.h).
+  virtual double typing_gamma() const { return 0; }
   // Whether training runs the model's heavy products in row chunks side by side (then it wants
   // BLAS on one thread, see training_runtime in gnn/runtime/runtime.h).
   virtual bool trains_in_chunks() const { return false; }

@@ -1,6 +1,7 @@
 #include "gnn/models/learned_simulator.h"
 
 #include "gnn/data/frame_window.h"
+#include "gnn/graph/heterogeneous_typing.h"
 #include "gnn/graph/radius_graph.h"
 
 #include <algorithm>
@@ -11,8 +12,11 @@
 namespace gnn {
 
 LearnedSimulator::LearnedSimulator(std::shared_ptr<GraphModel> model, Normalisation normalisation,
-                                   Bounds bounds)
-    : model_(std::move(model)), normalisation_(std::move(normalisation)), bounds_(bounds) {
+                                   Bounds bounds, double particle_radius)
+    : model_(std::move(model)),
+      normalisation_(std::move(normalisation)),
+      bounds_(bounds),
+      particle_radius_(particle_radius) {
   model_->set_normalisation(normalisation_);
 }
 
@@ -78,9 +82,18 @@ GraphInput LearnedSimulator::encode(const FrameNodes& f) const {
                       radius;
   g.edge_features = torch::cat({displacement, displacement.norm(2, 1, true)}, 1);
   g.fluid = torch::arange(fluid_count + boundary_count) < fluid_count;
-  if (model_->needs_typing())
-    throw std::logic_error(model_->name() +
-                           " needs the heterogeneous typing, which is not built yet");
+  if (model_->needs_typing()) {
+    if (!(particle_radius_ > 0))
+      throw std::logic_error(model_->name() +
+                             " needs the heterogeneous typing, whose kernel sums need the data's "
+                             "particle radius: none was given to the LearnedSimulator");
+    const double diameter = 2 * particle_radius_;
+    const HeterogeneousTyping typing =
+        type_graph(position, type, graph.edge_index, radius, diameter * diameter * diameter,
+                   model_->typing_gamma());
+    g.node_class = typing.node_class;
+    g.link_type = typing.link_type;
+  }
   const torch::Device device = model_->device();
   return device.is_cpu() ? g : to_device(g, device);
 }

@@ -53,12 +53,16 @@ using Bounds = std::array<std::array<double, 2>, 3>;
 
 class LearnedSimulator {
  public:
-  LearnedSimulator(std::shared_ptr<GraphModel> model, Normalisation normalisation, Bounds bounds);
+  // `particle_radius` (m, of the data) is needed only by a model that reads the heterogeneous
+  // typing, whose kernel sums weigh neighbours by the particles' volume.
+  LearnedSimulator(std::shared_ptr<GraphModel> model, Normalisation normalisation, Bounds bounds,
+                   double particle_radius = 0);
 
   GraphModel& model() { return *model_; }
   std::shared_ptr<GraphModel> model_ptr() { return model_; }
   const Normalisation& normalisation() const { return normalisation_; }
   const Bounds& bounds() const { return bounds_; }
+  double particle_radius() const { return particle_radius_; }
 
   // Moves the model to `device` (default: the CPU). The input pipeline (radius graph, features)
   // runs on the CPU and its graph is handed to the model's device; predictions come back to the
@@ -85,6 +89,7 @@ class LearnedSimulator {
   std::shared_ptr<GraphModel> model_;
   Normalisation normalisation_;
   Bounds bounds_;
+  double particle_radius_ = 0;
 };
 
 }  // namespace gnn

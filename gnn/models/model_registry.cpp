@@ -4,6 +4,7 @@
 #include "gnn/models/constant_velocity_model.h"
 #include "gnn/models/dpi_model.h"
 #include "gnn/models/gns_model.h"
+#include "gnn/models/pagat_model.h"
 
 namespace gnn {
 
@@ -18,6 +19,7 @@ std::vector<ModelEntry> model_entries() {
   return {
       {"gns", &GnsModel::from_config},
       {"dpi", &DpiModel::from_config},
+      {"pagat", &PagatModel::from_config},
       {"constant_velocity", &ConstantVelocityModel::from_config},
   };
 }

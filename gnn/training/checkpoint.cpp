@@ -189,7 +189,8 @@ LoadedCheckpoint load_unchecked(const std::string& path,
     throw CheckpointError(path +
                           ": the weights do not match their stored checksum (the file is "
                           "damaged or was altered)");
-  out.simulator = std::make_unique<LearnedSimulator>(model, n, bounds);
+  out.simulator =
+      std::make_unique<LearnedSimulator>(model, n, bounds, out.data.value("particle_radius", 0.0));
   torch::Tensor step, elapsed, sampler;
   if (archive.try_read("step", step)) out.state.step = step.item<int64_t>();
   if (archive.try_read("elapsed_s", elapsed)) out.state.elapsed_s = elapsed.item<double>();

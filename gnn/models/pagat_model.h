@@ -1,0 +1,104 @@
+#pragma once
+// PAGATNet (MODELS.md, "PAGATNet"): encode-process-decode on the heterogeneous graph.
+//  - Encoders as GNS's (MLP + LayerNorm) on the shared node features with a learned embedding
+//    of the node type (water, oil, boundary) and on the edge features. The surface/inner part of
+//    the node class is deliberately not an input: the class head below has to infer it, which is
+//    what the attention loss L_att asks of the latents.
+//  - `blocks` processor steps with separate weights: AGNB blocks (pagat/agnb_block.h), or with
+//    "attention": false the plain GN blocks of the ablation.
+//  - The physics-aware module (pagat/physics_module.h), run once and shared by all blocks, adds
+//    per-head biases to every block's attention scores; "physics_aware": false switches it off.
+//  - Decoder MLP to the 4 shared outputs (acceleration, oil fraction change), and a linear class
+//    head on the last node latents, the logits of water/oil x inner/surface [n, 4], returned as
+//    ModelOutput::auxiliary["node_class_logits"] for L_att.
+// The graph must carry the heterogeneous typing (needs_typing(): LearnedSimulator::encode builds
+// it with `gamma`, gnn/graph/heterogeneous_typing.h).
+//
+// Teacher and student are the same model at two sizes (configs/models/pagat_teacher.json and
+// pagat_student.json); distillation pairs their per-block latents (ForwardOptions::keep_latents).
+
+#include <vector>
+
+#include "common/param_spec.h"
+#include "gnn/models/gns_model.h"  // Mlp
+#include "gnn/models/graph_model.h"
+#include "gnn/models/model_keys.h"
+#include "gnn/models/pagat/agnb_block.h"
+#include "gnn/models/pagat/physics_module.h"
+
+namespace gnn {
+
+struct PagatConfig {
+  std::string model = "pagat";
+  int latent = 64;
+  int blocks = 5;
+  int mlp_hidden_layers = 1;
+  int heads = 4;
+  int physics_width = 32;
+  bool attention = true;
+  bool physics_aware = true;
+  double gamma = 0.92;
+  int type_embedding = 16;
+  double radius = 0.1;
+  double noise_std = 3e-4;
+
+  template <class V>
+  void describe(V& v) {
+    using common::param;
+    v.field("model", model, param("", "model name").one_of({"pagat"}).require());
+    v.field("latent", latent,
+            param("", "width of every latent vector and hidden layer (a multiple of heads)")
+                .at_least(1));
+    v.field("blocks", blocks, param("", "processor blocks (AGNB or GN)").at_least(1));
+    v.field("mlp_hidden_layers", mlp_hidden_layers,
+            param("", "hidden layers of every MLP").at_least(1));
+    v.field("heads", heads,
+            param("", "attention heads (chi heads of the physics-aware module)")
+                .at_least(1)
+                .at_most(64));
+    v.field("physics_width", physics_width,
+            param("", "width of the physics-aware module's relation encoder").at_least(1));
+    v.field("attention", attention,
+            param("", "AGNB blocks with attention (false: plain GN blocks, the ablation)"));
+    v.field("physics_aware", physics_aware,
+            param("", "add the physics-aware module's biases to the attention scores"));
+    v.field("gamma", gamma,
+            param("",
+                  "surface threshold of the same-phase kernel sum (a full neighbourhood has "
+                  "about 1)")
+                .positive()
+                .at_most(2));
+    describe_type_embedding(v, type_embedding);
+    describe_input_keys(v, radius, noise_std);
+  }
+};
+
+class PagatModel : public GraphModel {
+ public:
+  explicit PagatModel(const PagatConfig& config);
+  // The registry's factory: validates `config` (errors name `file` and the key; latent must be
+  // a multiple of heads).
+  static std::shared_ptr<GraphModel> from_config(const nlohmann::json& config,
+                                                 const std::string& file);
+  std::string name() const override { return "pagat"; }
+  double radius() const override { return config_.radius; }
+  double noise_std() const override { return config_.noise_std; }
+  bool needs_typing() const override { return true; }
+  double typing_gamma() const override { return config_.gamma; }
+  nlohmann::json config() const override;
+  double flops(int64_t nodes, int64_t edges) const override;
+  const PagatConfig& pagat_config() const { return config_; }
+
+ protected:
+  ModelOutput run(const GraphInput& graph, const ForwardOptions& options) override;
+
+ private:
+  PagatConfig config_;
+  torch::nn::Embedding type_embedding_{nullptr};
+  Mlp node_encoder_{nullptr}, edge_encoder_{nullptr}, decoder_{nullptr};
+  PhysicsModule physics_{nullptr};
+  std::vector<std::shared_ptr<ProcessorBlock>> blocks_;
+  torch::nn::Linear class_head_{nullptr};
+};
+
+}  // namespace gnn
