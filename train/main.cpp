@@ -83,6 +83,9 @@ int main(int argc, char** argv) {
       "train.h5, valid.h5, test.h5), the files spill-sim generate writes"));
   for (CLI::Option* o : scene_only) o->needs(scene_option);
   app.add_option("--out", options.out_dir, "run folder: log.csv, loss.svg, last.pt")->required();
+  app.add_option("--teacher", options.teacher,
+                 "distil a PAGATNet student from this frozen PAGATNet checkpoint (RUN/last.pt "
+                 "of the teacher's run, trained on the same data)");
   app.add_flag("--resume", options.resume,
                "continue from RUN/last.pt (with --scene the data are simulated again from the "
                "same seed and must come out bit-identical: on --threads 1)");

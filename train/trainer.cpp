@@ -97,15 +97,11 @@ Trainer::Trainer(TrainerOptions options, const std::function<TrainingData()>& lo
     // that now says something else is refused, naming every key that differs (a resumed run
     // that silently ignored a new learning rate once passed for a run with it).
     {
-      nlohmann::json asked = config_.training_json, stored_config = loaded.state.training_config;
-      asked.erase("steps");
-      stored_config.erase("steps");
-      const nlohmann::json patch = nlohmann::json::diff(stored_config, asked);
-      if (!patch.empty()) {
+      const auto differ = keys_that_differ(loaded.state.training_config, config_.training_json);
+      if (!differ.empty()) {
         std::string keys;
-        for (const auto& op : patch)
-          keys += (keys.empty() ? "" : ", ") + op.at("path").get<std::string>();
-        throw common::ConfigError(options_.config_file, patch[0].at("path").get<std::string>(),
+        for (const auto& k : differ) keys += (keys.empty() ? "" : ", ") + k;
+        throw common::ConfigError(options_.config_file, differ.front(),
                                   "differs from the run being resumed (" + last + ") at " + keys +
                                       "; only /steps may change on --resume: start a new run "
                                       "with another --out to train with other settings");
@@ -122,10 +118,19 @@ Trainer::Trainer(TrainerOptions options, const std::function<TrainingData()>& lo
     simulator_ = std::move(loaded.simulator);
     state_ = loaded.state;
     state_.training_config = config_.training_json;
+    load_teacher();
+    const bool has_adapters = simulator_->model().config().value("teacher_latent", 0) > 0;
+    if (has_adapters && !teacher_)
+      throw std::invalid_argument(last +
+                                  ": this student was being distilled from a teacher; resume it "
+                                  "with --teacher (the same checkpoint)");
   } else {
     // The initial weights come from LibTorch's global generator: seeded, so that a run is
     // reproducible from its config.
     torch::manual_seed(uint64_t(config_.training.seed));
+    load_teacher();
+    // A student gets an adapter per block from the teacher's latent width.
+    if (teacher_) config_.model_json["teacher_latent"] = teacher_->config().value("latent", 0);
     auto model = gnn::make_model(config_.model_json, config_.model_file);
     simulator_ = std::make_unique<gnn::LearnedSimulator>(
         model,
@@ -140,7 +145,20 @@ Trainer::Trainer(TrainerOptions options, const std::function<TrainingData()>& lo
     throw common::ConfigError(config_.model_file, "/model",
                               simulator_->model().name() + " has no parameters to train");
   simulator_->to(options_.device);
-  objective_ = gnn::make_objective(simulator_->model(), config_.training.oil_fraction_loss_weight);
+  {
+    const auto& c = config_.training;
+    gnn::ObjectiveSettings settings;
+    settings.oil_fraction_loss_weight = c.oil_fraction_loss_weight;
+    settings.acceleration_loss_weight = c.acceleration_loss_weight;
+    settings.attention_loss_weight = c.attention_loss_weight;
+    settings.distillation_loss_weight = c.distillation_loss_weight;
+    settings.distillation_beta = c.distillation_beta;
+    settings.generator_strength = c.generator_strength;
+    settings.distillation_stride = c.distillation_stride;
+    settings.steps = c.steps;
+    if (teacher_) teacher_->to(options_.device);
+    objective_ = gnn::make_objective(simulator_->model(), settings, teacher_);
+  }
   optimizer_ = std::make_unique<torch::optim::Adam>(
       simulator_->model().parameters(), torch::optim::AdamOptions(config_.training.lr_max));
   noise_generator_ = at::make_generator<at::CPUGeneratorImpl>(uint64_t(config_.training.seed));
@@ -192,8 +210,21 @@ TrainingBatch Trainer::sample_batch() {
 
 torch::Tensor Trainer::loss(const TrainingBatch& batch) {
   const gnn::ModelOutput output =
-      simulator_->model().forward(batch.graph, objective_->forward_options());
+      simulator_->model().forward(batch.graph, objective_->forward_options(batch, state_.step));
   return objective_->evaluate(output, batch).total;
+}
+
+void Trainer::load_teacher() {
+  if (options_.teacher.empty()) return;
+  if (config_.model_json.value("model", "") != "pagat")
+    throw common::ConfigError(config_.model_file, "/model",
+                              "--teacher distils a PAGATNet student; this config trains " +
+                                  config_.model_json.value("model", std::string("?")));
+  auto loaded = gnn::load_checkpoint(options_.teacher, std::string("pagat"));
+  gnn::check_data_fits(loaded.data, metadata_, options_.teacher);
+  teacher_ = loaded.simulator->model_ptr();
+  teacher_->eval();  // batch normalisation on its running statistics
+  for (auto& p : teacher_->parameters()) p.set_requires_grad(false);
 }
 
 void Trainer::validate(double& one_step_loss, double& rollout_mse) {
@@ -285,7 +316,8 @@ double Trainer::train_steps() {
     common::write_file_atomically(fs::path(options_.out_dir) / "config.json",
                                   nlohmann::json{{"training", config_.training_json},
                                                  {"model", simulator_->model().config()},
-                                                 {"data", data_description_}}
+                                                 {"data", data_description_},
+                                                 {"teacher", options_.teacher}}
                                           .dump(2) +
                                       "\n");
   }

@@ -30,6 +30,8 @@ struct TrainerOptions {
   std::string data_dir;  // the dataset folder (--data) of Trainer(options)
   std::string out_dir;
   bool resume = false;
+  // A PAGATNet checkpoint to distil the model from (a PAGATNet student); empty: none.
+  std::string teacher;
   torch::Device device = torch::kCPU;  // where the model trains (the data pipeline stays on CPU)
   std::ostream* log = nullptr;         // progress; null for none
   bool terminal = false;
@@ -76,6 +78,9 @@ class Trainer {
   nlohmann::json data_description_;
   std::unique_ptr<gnn::LearnedSimulator> simulator_;
   std::unique_ptr<gnn::TrainingObjective> objective_;
+  // --teacher: the frozen PAGATNet a student is distilled from (null: none).
+  std::shared_ptr<gnn::GraphModel> teacher_;
+  void load_teacher();
   std::unique_ptr<torch::optim::Adam> optimizer_;
   gnn::TrainingState state_;
   std::mt19937_64 sampler_;

@@ -37,6 +37,21 @@ ResolvedConfig load_training_config(const std::string& file,
   return out;
 }
 
+std::vector<std::string> keys_that_differ(const nlohmann::json& stored_in,
+                                          const nlohmann::json& asked_in) {
+  nlohmann::json stored = stored_in, asked = asked_in;
+  stored.erase("steps");
+  asked.erase("steps");
+  const nlohmann::json defaults = common::JsonWriter::write_struct(TrainingConfig{});
+  for (auto it = defaults.begin(); it != defaults.end(); ++it)
+    if (!stored.contains(it.key()) && asked.contains(it.key()) && asked[it.key()] == it.value())
+      asked.erase(it.key());
+  std::vector<std::string> keys;
+  for (const auto& op : nlohmann::json::diff(stored, asked))
+    keys.push_back(op.at("path").get<std::string>());
+  return keys;
+}
+
 double learning_rate(const TrainingConfig& c, int64_t step) {
   return (c.lr_max - c.lr_min) * std::pow(0.1, double(step) / double(c.decay_steps)) + c.lr_min;
 }

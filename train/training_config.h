@@ -27,6 +27,13 @@ struct TrainingConfig {
   int log_every = 10;
   int seed = 1;
   double oil_fraction_loss_weight = 1.0;
+  // PAGATNet only (gnn/training/pagat_objective.h).
+  double acceleration_loss_weight = 1.0;
+  double attention_loss_weight = 0.1;
+  double distillation_loss_weight = 1.0;
+  double distillation_beta = 1.0;
+  double generator_strength = 0.5;
+  int distillation_stride = 2;
 
   template <class V>
   void describe(V& v) {
@@ -55,6 +62,26 @@ struct TrainingConfig {
     v.field("oil_fraction_loss_weight", oil_fraction_loss_weight,
             param("", "weight of the oil fraction change's MSE beside the acceleration's")
                 .non_negative());
+    v.field("acceleration_loss_weight", acceleration_loss_weight,
+            param("", "PAGATNet: l1, the weight of L_acc (acceleration and oil fraction MSE)")
+                .non_negative());
+    v.field(
+        "attention_loss_weight", attention_loss_weight,
+        param("", "PAGATNet: l2, the weight of L_att (node-class cross-entropy)").non_negative());
+    v.field("distillation_loss_weight", distillation_loss_weight,
+            param("", "PAGATNet student with --teacher: l3, the weight of L_KD").non_negative());
+    v.field("distillation_beta", distillation_beta,
+            param("", "PAGATNet student: beta in L_KD = L_T-S + beta L_MKD").non_negative());
+    v.field("generator_strength", generator_strength,
+            param("",
+                  "PAGATNet student: lambda of the generator (v + lambda A(v_teacher)) at "
+                  "step 0, falling linearly to 0 at the last step")
+                .non_negative());
+    v.field("distillation_stride", distillation_stride,
+            param("",
+                  "PAGATNet student: student block k pairs with teacher block "
+                  "stride (k + 1) - 1 (counted from 0)")
+                .at_least(1));
   }
 };
 
@@ -69,6 +96,13 @@ struct ResolvedConfig {
 // apply to the training config (e.g. /steps=200 or /model/latent=64).
 ResolvedConfig load_training_config(const std::string& file,
                                     const std::vector<std::string>& overrides);
+
+// The JSON pointers at which a resumed run's config `asked` differs from the one stored with the
+// run (`stored`), /steps aside (it may be raised). A key the stored config does not have (a run
+// made before the key existed) counts only when `asked` gives it a value other than its default,
+// which is what that run trained with.
+std::vector<std::string> keys_that_differ(const nlohmann::json& stored,
+                                          const nlohmann::json& asked);
 
 // lr(step) = (lr_max - lr_min) * 0.1^(step / decay_steps) + lr_min
 double learning_rate(const TrainingConfig& c, int64_t step);

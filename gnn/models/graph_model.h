@@ -9,6 +9,7 @@
 
 #include <torch/torch.h>
 
+#include <functional>
 #include <map>
 #include <memory>
 #include <nlohmann/json.hpp>
@@ -26,6 +27,11 @@ struct ForwardOptions {
   // Keep the node and edge latents after every processor layer (distillation pairs a student's
   // layers with a teacher's); off, they are not kept and cost nothing.
   bool keep_latents = false;
+  // Called after each processor layer with its node and edge latents (after they were kept),
+  // which it may change in place: distillation's generator adds the teacher's adapted latents
+  // to the student's during training (gnn/training/pagat_objective.h). Models without layers
+  // of latents ignore it.
+  std::function<void(size_t layer, torch::Tensor& nodes, torch::Tensor& edges)> after_layer;
 };
 
 // A model's output for one graph. Every model's head has kModelOutputs columns: the normalised

@@ -30,6 +30,25 @@ PagatModel::PagatModel(const PagatConfig& config) : config_(config) {
   }
   decoder_ = register_module("decoder", Mlp(L, L, kModelOutputs, H, false));
   class_head_ = register_module("class_head", torch::nn::Linear(L, kFluidNodeClasses));
+  for (int k = 0; k < (config.teacher_latent > 0 ? config.blocks : 0); ++k) {
+    const auto options = torch::nn::LinearOptions(config.teacher_latent, L).bias(false);
+    node_adapters_.push_back(
+        register_module("node_adapter" + std::to_string(k), torch::nn::Linear(options)));
+    edge_adapters_.push_back(
+        register_module("edge_adapter" + std::to_string(k), torch::nn::Linear(options)));
+  }
+}
+
+torch::Tensor PagatModel::adapt_nodes(size_t block, const torch::Tensor& teacher_nodes) {
+  return node_adapters_.at(block)->forward(teacher_nodes);
+}
+
+torch::Tensor PagatModel::adapt_edges(size_t block, const torch::Tensor& teacher_edges) {
+  return edge_adapters_.at(block)->forward(teacher_edges);
+}
+
+torch::Tensor PagatModel::class_logits(const torch::Tensor& node_latents) {
+  return class_head_->forward(node_latents);
 }
 
 ModelOutput PagatModel::run(const GraphInput& g, const ForwardOptions& options) {
@@ -43,12 +62,13 @@ ModelOutput PagatModel::run(const GraphInput& g, const ForwardOptions& options) 
                      torch::cat({g.node_features, type_embedding_->forward(g.node_type)}, 1)),
                  edge_encoder_->forward(g.edge_features)};
   ModelOutput out;
-  for (auto& block : blocks_) {
-    x = block->forward(x, typed);
+  for (size_t k = 0; k < blocks_.size(); ++k) {
+    x = blocks_[k]->forward(x, typed);
     if (options.keep_latents) {
       out.node_latents.push_back(x.nodes);
       out.edge_latents.push_back(x.edges);
     }
+    if (options.after_layer) options.after_layer(k, x.nodes, x.edges);
   }
   const auto decoded = decoder_->forward(x.nodes);
   out.acceleration = decoded.slice(1, 0, 3);

@@ -38,6 +38,7 @@ struct PagatConfig {
   bool attention = true;
   bool physics_aware = true;
   double gamma = 0.92;
+  int teacher_latent = 0;
   int type_embedding = 16;
   double radius = 0.1;
   double noise_std = 3e-4;
@@ -68,6 +69,12 @@ struct PagatConfig {
                   "about 1)")
                 .positive()
                 .at_most(2));
+    v.field("teacher_latent", teacher_latent,
+            param("",
+                  "latent width of the teacher this student is distilled from: one linear "
+                  "adapter per block from it to this model's width for nodes and for edges "
+                  "(0: no teacher; spill-train --teacher sets it)")
+                .non_negative());
     describe_type_embedding(v, type_embedding);
     describe_input_keys(v, radius, noise_std);
   }
@@ -88,6 +95,13 @@ class PagatModel : public GraphModel {
   nlohmann::json config() const override;
   double flops(int64_t nodes, int64_t edges) const override;
   const PagatConfig& pagat_config() const { return config_; }
+  // FRKD's adapters (teacher_latent > 0): teacher latents [rows, teacher_latent] of the layer
+  // paired with block k mapped to this model's width.
+  bool has_adapters() const { return !node_adapters_.empty(); }
+  torch::Tensor adapt_nodes(size_t block, const torch::Tensor& teacher_nodes);
+  torch::Tensor adapt_edges(size_t block, const torch::Tensor& teacher_edges);
+  // The node-class head on node latents [n, latent] (L_att's logits).
+  torch::Tensor class_logits(const torch::Tensor& node_latents);
 
  protected:
   ModelOutput run(const GraphInput& graph, const ForwardOptions& options) override;
@@ -99,6 +113,7 @@ class PagatModel : public GraphModel {
   PhysicsModule physics_{nullptr};
   std::vector<std::shared_ptr<ProcessorBlock>> blocks_;
   torch::nn::Linear class_head_{nullptr};
+  std::vector<torch::nn::Linear> node_adapters_, edge_adapters_;
 };
 
 }  // namespace gnn

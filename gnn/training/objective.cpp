@@ -2,6 +2,9 @@
 
 #include <stdexcept>
 
+#include "gnn/models/pagat_model.h"
+#include "gnn/training/pagat_objective.h"
+
 namespace gnn {
 
 ObjectiveValue AccelerationMse::evaluate(const ModelOutput& output,
@@ -23,8 +26,14 @@ ObjectiveValue AccelerationMse::evaluate(const ModelOutput& output,
   return {acc + fraction_weight_ * frac, {{"acc", acc}, {"frac", frac}}};
 }
 
-std::unique_ptr<TrainingObjective> make_objective(const GraphModel&, double fraction_weight) {
-  return std::make_unique<AccelerationMse>(fraction_weight);
+std::unique_ptr<TrainingObjective> make_objective(GraphModel& model,
+                                                  const ObjectiveSettings& settings,
+                                                  std::shared_ptr<GraphModel> teacher) {
+  if (auto* pagat = dynamic_cast<PagatModel*>(&model))
+    return std::make_unique<PagatObjective>(*pagat, settings, std::move(teacher));
+  if (teacher)
+    throw std::invalid_argument("distillation needs a PAGATNet student, not " + model.name());
+  return std::make_unique<AccelerationMse>(settings.oil_fraction_loss_weight);
 }
 
 }  // namespace gnn

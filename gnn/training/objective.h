@@ -31,8 +31,11 @@ class TrainingObjective {
  public:
   virtual ~TrainingObjective() = default;
   virtual std::string name() const = 0;
-  // What the model must return besides the acceleration (latents for distillation).
-  virtual ForwardOptions forward_options() const { return {}; }
+  // What the model must return besides the acceleration for `batch` at training step `step`
+  // (latents for distillation; a distilling objective runs its teacher on the batch here).
+  virtual ForwardOptions forward_options(const TrainingBatch& /*batch*/, int64_t /*step*/) {
+    return {};
+  }
   virtual ObjectiveValue evaluate(const ModelOutput& output, const TrainingBatch& batch) const = 0;
 };
 
@@ -50,8 +53,24 @@ class AccelerationMse : public TrainingObjective {
   double fraction_weight_;
 };
 
-// The objective a model is trained with (acceleration and oil-fraction MSE for GNS and DPI-Nets);
-// `fraction_weight` is the training config's oil_fraction_loss_weight.
-std::unique_ptr<TrainingObjective> make_objective(const GraphModel& model, double fraction_weight);
+// The weights and settings of the objectives (the training config's keys of the same names).
+struct ObjectiveSettings {
+  double oil_fraction_loss_weight = 1.0;
+  // PAGATNet: L = l1 L_acc + l2 L_att + l3 L_KD, L_KD = L_T-S + beta L_MKD.
+  double acceleration_loss_weight = 1.0;  // l1
+  double attention_loss_weight = 0.1;     // l2
+  double distillation_loss_weight = 1.0;  // l3
+  double distillation_beta = 1.0;         // beta
+  double generator_strength = 0.5;        // lambda at step 0, falling linearly to 0 at the end
+  int distillation_stride = 2;            // student block k pairs with teacher block s (k+1) - 1
+  int64_t steps = 1;                      // the run's length (the generator's schedule)
+};
+
+// The objective a model is trained with: acceleration and oil-fraction MSE for GNS and DPI-Nets;
+// PAGATNet's weighted sum with the attention-class loss, and distillation against `teacher`
+// (frozen; null: none) for a student.
+std::unique_ptr<TrainingObjective> make_objective(GraphModel& model,
+                                                  const ObjectiveSettings& settings,
+                                                  std::shared_ptr<GraphModel> teacher = nullptr);
 
 }  // namespace gnn

@@ -257,6 +257,28 @@ TEST(Configs, EveryShippedModelAndTrainingConfigLoads) {
   EXPECT_GE(count, 3);
 }
 
+// --resume compares the asked config with the stored one: a run made before a key existed (its
+// stored config lacks the key) is not refused for it while the key keeps its default, which is
+// what that run trained with; any other value, or a changed key, is named; /steps may change.
+TEST(Configs, AResumedRunMadeBeforeANewKeyIsRefusedOnlyForAChangedValue) {
+  const fs::path root = SPILL_SOURCE_DIR;
+  const auto asked =
+      train::load_training_config((root / "configs/training/gns_smoke.json").string(), {})
+          .training_json;
+  auto stored = asked;
+  stored.erase("attention_loss_weight");
+  stored.erase("distillation_stride");
+  EXPECT_TRUE(train::keys_that_differ(stored, asked).empty());
+  auto changed = asked;
+  changed["attention_loss_weight"] = 0.5;
+  changed["steps"] = 99999;
+  EXPECT_EQ(train::keys_that_differ(stored, changed),
+            std::vector<std::string>{"/attention_loss_weight"});
+  changed = asked;
+  changed["lr_max"] = 0.5;
+  EXPECT_EQ(train::keys_that_differ(stored, changed), std::vector<std::string>{"/lr_max"});
+}
+
 TEST(Configs, AnUnknownKeyIsAnErrorNamingFileAndKey) {
   const fs::path root = SPILL_SOURCE_DIR;
   const std::string file = (root / "configs/training/gns_smoke.json").string();

@@ -223,7 +223,10 @@ TEST(TrainingObjective, AccelerationMseIsTheMaskedMeanSquareOverFluidRows) {
   gnn::ModelOutput out;
   out.acceleration = torch::randn({4, 3});
   out.oil_fraction_change = torch::randn({4});
-  const auto objective = gnn::make_objective(*small_gns(), 0.5);
+  gnn::ObjectiveSettings settings;
+  settings.oil_fraction_loss_weight = 0.5;
+  auto gns = small_gns();
+  const auto objective = gnn::make_objective(*gns, settings);
   const gnn::ObjectiveValue v = objective->evaluate(out, batch);
   // Rows 0 and 3 of the output against targets 0 and 2 (row 2 is a boundary node, target 1 is
   // masked out): the mean over 2 x 3 squared differences.

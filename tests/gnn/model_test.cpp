@@ -548,6 +548,48 @@ TEST(PagatModel, TrainingOnTheTinyDatasetLossFallsTenfold) {
   EXPECT_NO_THROW(gnn::load_checkpoint((out / "last.pt").string(), std::string("pagat")));
 }
 
+// spill-train's teacher-student path: a teacher trained on the tiny dataset, then a student
+// distilled from it (--teacher): the student gets one adapter per block from the teacher's width
+// and its run records the teacher; resuming it without --teacher, or giving a teacher to a GNS
+// config, is a clear error.
+TEST(PagatModel, AStudentTrainsAgainstAFrozenTeacher) {
+  Tiny data("pagat_student");
+  const fs::path teacher_run = data.dir / "teacher", student_run = data.dir / "student";
+  train::Trainer(options(data, teacher_run, 20, {}, kPagatSmoke)).run();
+  const std::string teacher = (teacher_run / "last.pt").string();
+  const auto teacher_before = gnn::load_checkpoint(teacher);
+  auto o = options(data, student_run, 20, {"/model/latent=8", "/model/blocks=1"}, kPagatSmoke);
+  o.teacher = teacher;
+  train::Trainer student(o);
+  student.run();
+  const auto loaded = gnn::load_checkpoint((student_run / "last.pt").string(), "pagat");
+  EXPECT_EQ(loaded.simulator->model().config().at("teacher_latent"), 16);
+  const auto run_config = nlohmann::json::parse(std::ifstream(student_run / "config.json"));
+  EXPECT_EQ(run_config.at("teacher"), teacher);
+  // The teacher's file is untouched (it was only read).
+  const auto teacher_after = gnn::load_checkpoint(teacher);
+  auto before = teacher_before.simulator->model().parameters();
+  auto after = teacher_after.simulator->model().parameters();
+  for (size_t k = 0; k < before.size(); ++k) EXPECT_TRUE(torch::equal(before[k], after[k]));
+
+  auto resume = options(data, student_run, 30, {"/model/latent=8", "/model/blocks=1"}, kPagatSmoke);
+  resume.resume = true;
+  try {
+    train::Trainer(resume).run();
+    ADD_FAILURE() << "resumed without its teacher";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("--teacher"), std::string::npos) << e.what();
+  }
+  auto gns = options(data, data.dir / "gns_student", 5);
+  gns.teacher = teacher;
+  try {
+    train::Trainer(gns).run();
+    ADD_FAILURE() << "a GNS config took a teacher";
+  } catch (const common::ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("--teacher"), std::string::npos) << e.what();
+  }
+}
+
 // Zero physical acceleration (not a normalised zero: the tiny dataset's mean acceleration is
 // gravity and drag), so a rollout moves every fluid particle by its last displacement, frame
 // after frame; emitted particles enter on the recorded schedule and then keep their velocity.

@@ -8,33 +8,12 @@
 #include "gnn/graph/heterogeneous_typing.h"
 #include "gnn/graph/radius_graph.h"
 #include "gnn/models/graph_model.h"
+#include "tests/gnn/typed_graphs.h"
 
 namespace {
 
 const nlohmann::json kSmallPagat = {
     {"model", "pagat"}, {"latent", 16}, {"blocks", 2}, {"heads", 2}, {"physics_width", 8}};
-
-// n nodes in the unit cube, typed: boundary below z = 0.12, oil at x > 0.5, water elsewhere
-// (phases apart, so that some nodes are more than two hops from the other phase), with a kernel
-// volume of one node's share of the cube (a full neighbourhood sums to about 1).
-gnn::GraphInput typed_graph(int64_t n, double radius) {
-  auto points = torch::rand({n, 3});
-  auto x = points.select(1, 0), z = points.select(1, 2);
-  auto type = torch::where(x > 0.5, torch::full({n}, gnn::kOil, torch::kInt64),
-                           torch::full({n}, gnn::kWater, torch::kInt64));
-  type = torch::where(z < 0.12, torch::full({n}, gnn::kBoundary, torch::kInt64), type);
-  auto graph = gnn::build_radius_graph(points, torch::zeros({0, 3}), radius);
-  auto typing = gnn::type_graph(points, type, graph.edge_index, radius, 1.0 / double(n), 0.92);
-  gnn::GraphInput g;
-  g.node_features = torch::randn({n, gnn::kNodeFeatures});
-  g.node_type = type;
-  g.edge_index = graph.edge_index;
-  g.edge_features = torch::randn({graph.edge_index.size(1), gnn::kEdgeFeatures});
-  g.fluid = type != gnn::kBoundary;
-  g.node_class = typing.node_class;
-  g.link_type = typing.link_type;
-  return g;
-}
 
 // n water nodes with the given edges (sorted by receiver), typed by hand.
 gnn::GraphInput graph_with_edges(int64_t n, std::vector<int64_t> senders,
@@ -60,7 +39,7 @@ TEST(PagatModel, OutputShapesForNoEdgeOneEdgeAndManyEdges) {
   const std::vector<std::pair<std::string, gnn::GraphInput>> graphs = {
       {"no edge", graph_with_edges(5, {}, {})},
       {"one edge", graph_with_edges(2, {0}, {1})},
-      {"many edges", typed_graph(300, 0.2)}};
+      {"many edges", typed_graphs::random_typed_graph(300, 0.2)}};
   for (const bool training : {true, false}) {
     model->train(training);
     for (const auto& [label, g] : graphs) {
@@ -86,7 +65,7 @@ TEST(PagatModel, OutputShapesForNoEdgeOneEdgeAndManyEdges) {
 // logits reaches every parameter: each type's attention, the physics-aware module, the blocks.
 TEST(PagatModel, EveryParameterIsReachedWhenAllLinkTypesArePresent) {
   torch::manual_seed(32);
-  const auto g = typed_graph(300, 0.2);
+  const auto g = typed_graphs::random_typed_graph(300, 0.2);
   for (int64_t type = 0; type < gnn::kLinkTypes; ++type)
     ASSERT_GT((g.link_type == type).sum().item<int64_t>(), 0) << "link type " << type;
   auto model = gnn::make_model(kSmallPagat, "test");
@@ -109,7 +88,7 @@ TEST(PagatModel, EveryParameterIsReachedWhenAllLinkTypesArePresent) {
 // the output changes.
 TEST(PagatModel, AblationSwitchesRemoveTheirParts) {
   torch::manual_seed(33);
-  const auto g = typed_graph(200, 0.25);
+  const auto g = typed_graphs::random_typed_graph(200, 0.25);
   auto count = [](const gnn::GraphModel& m, const std::string& part) {
     int k = 0;
     for (const auto& p : m.named_parameters()) k += p.key().find(part) != std::string::npos;
@@ -137,7 +116,7 @@ TEST(PagatModel, AblationSwitchesRemoveTheirParts) {
 
 TEST(PagatModel, AGraphWithoutTypingOrABadConfigIsAClearError) {
   auto model = gnn::make_model(kSmallPagat, "test");
-  auto g = typed_graph(50, 0.3);
+  auto g = typed_graphs::random_typed_graph(50, 0.3);
   g.node_class = torch::Tensor();
   g.link_type = torch::Tensor();
   try {

@@ -1,0 +1,131 @@
+#include "gnn/training/pagat_objective.h"
+
+#include <cmath>
+#include <stdexcept>
+
+#include "gnn/graph/heterogeneous_typing.h"
+#include "gnn/graph/segment_ops.h"
+
+namespace gnn {
+
+namespace {
+
+EdgeOrder canonical_order(const GraphInput& g) {
+  EdgeOrder order = edge_order(g.edge_index, g.nodes());
+  if (!order.canonical)
+    throw std::invalid_argument(
+        "pagat objective: the graph's edges are not sorted by receiver and symmetric");
+  return order;
+}
+
+}  // namespace
+
+torch::Tensor structural_distribution(const torch::Tensor& latents, const EdgeOrder& order) {
+  const double width = double(latents.size(1));
+  // sqrt(|.|^2 + tiny): the norm's gradient at two equal latents would be 0 / 0.
+  const auto difference = gather_receivers(latents, order) - gather_senders(latents, order);
+  const auto distance = (difference.pow(2).sum(1, true) + 1e-12).sqrt() / std::sqrt(width);
+  return segment_softmax(-distance, order.receivers, order.offsets).squeeze(1);
+}
+
+torch::Tensor neighbour_kl(const torch::Tensor& p, const torch::Tensor& q, const EdgeOrder& order) {
+  const auto per_edge = p * (p.clamp_min(1e-12).log() - q.clamp_min(1e-12).log());
+  const auto per_node = segment_sum(per_edge.unsqueeze(1), order.receivers, order.offsets);
+  const auto has_edges = order.offsets.slice(0, 1) > order.offsets.slice(0, 0, -1);
+  if (!has_edges.any().item<bool>()) return per_node.sum() * 0;
+  return per_node.squeeze(1).index({has_edges}).mean();
+}
+
+PagatObjective::PagatObjective(PagatModel& student, const ObjectiveSettings& settings,
+                               std::shared_ptr<GraphModel> teacher)
+    : student_(student), settings_(settings), acceleration_(settings.oil_fraction_loss_weight) {
+  if (!teacher) return;
+  teacher_ = std::dynamic_pointer_cast<PagatModel>(teacher);
+  if (!teacher_)
+    throw std::invalid_argument("distillation: the teacher is " + teacher->name() + ", not pagat");
+  const PagatConfig& s = student.pagat_config();
+  const PagatConfig& t = teacher_->pagat_config();
+  if (s.teacher_latent != t.latent || !student.has_adapters())
+    throw std::invalid_argument("distillation: the student's adapters take latents of width " +
+                                std::to_string(s.teacher_latent) + ", the teacher's are " +
+                                std::to_string(t.latent));
+  if (settings.distillation_stride < 1 ||
+      int64_t(settings.distillation_stride) * s.blocks > t.blocks)
+    throw std::invalid_argument(
+        "distillation: " + std::to_string(s.blocks) + " student blocks paired every " +
+        std::to_string(settings.distillation_stride) + " teacher blocks need " +
+        std::to_string(settings.distillation_stride * s.blocks) + ", the teacher has " +
+        std::to_string(t.blocks));
+  if (s.radius != t.radius)
+    throw std::invalid_argument("distillation: the teacher's graph radius " +
+                                std::to_string(t.radius) + " differs from the student's " +
+                                std::to_string(s.radius));
+}
+
+size_t PagatObjective::teacher_block(size_t student_block) const {
+  return size_t(settings_.distillation_stride) * (student_block + 1) - 1;
+}
+
+ForwardOptions PagatObjective::forward_options(const TrainingBatch& batch, int64_t step) {
+  ForwardOptions options;
+  if (!teacher_) return options;
+  options.keep_latents = true;
+  {
+    torch::NoGradGuard no_grad;
+    ForwardOptions keep;
+    keep.keep_latents = true;
+    teacher_output_ = teacher_->forward(batch.graph, keep);
+  }
+  const double progress = double(step) / double(std::max<int64_t>(1, settings_.steps));
+  const double lambda = settings_.generator_strength * std::max(0.0, 1.0 - progress);
+  if (lambda > 0)
+    options.after_layer = [this, lambda](size_t k, torch::Tensor& nodes, torch::Tensor& edges) {
+      const size_t t = teacher_block(k);
+      nodes = nodes + lambda * student_.adapt_nodes(k, teacher_output_.node_latents[t]);
+      edges = edges + lambda * student_.adapt_edges(k, teacher_output_.edge_latents[t]);
+    };
+  return options;
+}
+
+ObjectiveValue PagatObjective::evaluate(const ModelOutput& output,
+                                        const TrainingBatch& batch) const {
+  const GraphInput& g = batch.graph;
+  ObjectiveValue acc = acceleration_.evaluate(output, batch);
+  ObjectiveValue out;
+  out.terms = acc.terms;
+  out.total = settings_.acceleration_loss_weight * acc.total;
+
+  const auto logits = output.auxiliary.at("node_class_logits").index({g.fluid});
+  const auto classes = g.node_class.index({g.fluid});
+  if (!(classes < kFluidNodeClasses).all().item<bool>())
+    throw std::invalid_argument("pagat objective: a fluid node has a boundary class");
+  const auto att = torch::nn::functional::cross_entropy(logits, classes);
+  out.terms["att"] = att;
+  out.total = out.total + settings_.attention_loss_weight * att;
+  if (!teacher_) return out;
+
+  const size_t last = output.node_latents.size() - 1;
+  const auto& student_final = output.node_latents[last];
+  const auto adapted =
+      student_.adapt_nodes(last, teacher_output_.node_latents[teacher_block(last)]);
+  const auto ts = (adapted - student_final).pow(2).sum(1).index({g.fluid}).mean() /
+                  double(student_final.size(1));
+  const EdgeOrder order = canonical_order(g);
+  auto mkd = torch::zeros({}, student_final.options());
+  for (size_t k = 0; k <= last; ++k) {
+    torch::Tensor p_teacher;
+    {
+      torch::NoGradGuard no_grad;
+      p_teacher = structural_distribution(teacher_output_.node_latents[teacher_block(k)], order);
+    }
+    mkd = mkd +
+          neighbour_kl(p_teacher, structural_distribution(output.node_latents[k], order), order);
+  }
+  out.terms["ts"] = ts;
+  out.terms["mkd"] = mkd;
+  out.total =
+      out.total + settings_.distillation_loss_weight * (ts + settings_.distillation_beta * mkd);
+  return out;
+}
+
+}  // namespace gnn
