@@ -188,8 +188,9 @@ void run_compare(const CompareOptions& o) {
   for (auto& model : models) {
     gnn::LearnedSimulator& sim = *model.simulator;
     const gnn::RuntimeSettings mix =
-        o.blas_threads > 0 ? gnn::RuntimeSettings{o.threads, o.blas_threads}
-                           : gnn::inference_runtime(o.threads, sim.model().infers_in_chunks());
+        o.blas_threads > 0
+            ? gnn::RuntimeSettings{o.threads, o.blas_threads}
+            : gnn::inference_runtime(o.threads, sim.model().infers_on_one_blas_thread());
     gnn::configure_runtime(mix);
     std::vector<TrajectoryScores> scores;
     for (size_t k = 0; k < trajectories.size(); ++k) {

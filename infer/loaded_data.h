@@ -32,7 +32,7 @@ inline LoadedData load_data(const CommonOptions& o) {
   const gnn::GraphModel& model = d.checkpoint.simulator->model();
   const gnn::RuntimeSettings mix =
       o.blas_threads > 0 ? gnn::RuntimeSettings{o.threads, o.blas_threads}
-                         : gnn::inference_runtime(o.threads, model.infers_in_chunks());
+                         : gnn::inference_runtime(o.threads, model.infers_on_one_blas_thread());
   gnn::configure_runtime(mix);
   if (o.log)
     *o.log << "threads: " << mix.threads << " LibTorch, " << mix.blas_threads << " BLAS"

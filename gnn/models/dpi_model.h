@@ -88,8 +88,8 @@ class DpiModel : public GraphModel {
   nlohmann::json config() const override;
   void set_normalisation(const Normalisation& normalisation) override;
   double flops(int64_t nodes, int64_t edges) const override;
-  // Inference runs in row chunks side by side (dpi_inference.cpp), as GNS's does.
-  bool infers_in_chunks() const override { return true; }
+  // Inference runs in row chunks side by side (dpi_inference.cpp), as GNS's does, BLAS on one.
+  bool infers_on_one_blas_thread() const override { return true; }
   const DpiConfig& dpi_config() const { return config_; }
 
   // The decoder's output alone, the normalised next velocity u [n, 3], for a checked graph

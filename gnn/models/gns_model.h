@@ -94,7 +94,7 @@ class GnsModel : public GraphModel {
   // against).
   void use_lean_backward(bool on) { lean_backward_ = on; }
   bool trains_in_chunks() const override { return lean_backward_; }
-  bool infers_in_chunks() const override { return true; }
+  bool infers_on_one_blas_thread() const override { return true; }
 
  protected:
   ModelOutput run(const GraphInput& graph, const ForwardOptions& options) override;

@@ -72,8 +72,10 @@ class GraphModel : public torch::nn::Module {
   // Whether training runs the model's heavy products in row chunks side by side (then it wants
   // BLAS on one thread, see training_runtime in gnn/runtime/runtime.h).
   virtual bool trains_in_chunks() const { return false; }
-  // Likewise for inference without autograd (see inference_runtime).
-  virtual bool infers_in_chunks() const { return false; }
+  // Whether inference without autograd is fastest with BLAS on one thread and LibTorch on every
+  // core (row chunks side by side, or products small enough that LibTorch's own threads do
+  // better than BLAS's; measured per model, see inference_runtime).
+  virtual bool infers_on_one_blas_thread() const { return false; }
   // The resolved config (defaults filled in), stored in checkpoints.
   virtual nlohmann::json config() const = 0;
   // The statistics the graph's velocities were normalised with and the output acceleration is

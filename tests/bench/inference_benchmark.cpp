@@ -97,7 +97,7 @@ void run(const std::vector<std::string>& checkpoints, const std::string& data_di
     model.eval();
     const gnn::RuntimeSettings mix =
         blas_threads > 0 ? gnn::RuntimeSettings{threads, blas_threads}
-                         : gnn::inference_runtime(threads, model.infers_in_chunks());
+                         : gnn::inference_runtime(threads, model.infers_on_one_blas_thread());
     gnn::configure_runtime(mix);
     torch::NoGradGuard no_grad;
     const double radius = model.radius();

@@ -28,6 +28,7 @@ TypedGraph typed_graph(const torch::Tensor& edge_index, const torch::Tensor& lin
   for (size_t t = 0; t < size_t(kLinkTypes); ++t) {
     g.types[t] = {cpu_types[t].edges.to(device), cpu_types[t].offsets.to(device)};
     g.receivers[t] = edge_index[1].index_select(0, g.types[t].edges);
+    g.senders[t] = edge_index[0].index_select(0, g.types[t].edges);
   }
   return g;
 }
@@ -41,8 +42,13 @@ torch::Tensor NormalisedMlpImpl::forward(const torch::Tensor& x) {
   return norm_->forward(torch::relu(mlp_->forward(x)));
 }
 
+torch::Tensor NormalisedMlpImpl::forward_after_first(const torch::Tensor& pre) {
+  return norm_->forward(torch::relu(mlp_->forward_after_first(pre)));
+}
+
 AgnbBlock::AgnbBlock(int64_t L, int64_t heads, int H) : latent_(L), heads_(heads) {
-  edge_mlp_ = register_module("edge_mlp", Mlp(3 * L, L, L, H, false));
+  edge_mlp_ = register_module("edge_mlp", Mlp(L, L, L, H, false));
+  edge_nodes_ = register_module("edge_nodes", linear(L, 2 * L, false));
   edge_conv_ = register_module("edge_conv", linear(L, L, true));
   edge_bn_ = register_module("edge_bn", torch::nn::BatchNorm1d(L));
   edge_message_ = register_module("edge_message", Mlp(L, L, L, H, false));
@@ -62,7 +68,8 @@ AgnbBlock::AgnbBlock(int64_t L, int64_t heads, int H) : latent_(L), heads_(heads
                                        torch::randn({heads, L / heads}) / std::sqrt(double(L)));
     phi_b_[t] = register_module("phi_b_" + name, NormalisedMlp(2 * L, L, H));
   }
-  phi_a_ = register_module("phi_a", NormalisedMlp(3 * L, L, H));
+  phi_a_ = register_module("phi_a", NormalisedMlp(L, L, H));
+  phi_a_nodes_ = register_module("phi_a_nodes", linear(L, 2 * L, false));
   dp_inner_ = register_module("dp_inner", Mlp(L, L, L, H, false));
   dp_norm_ = register_module("dp_norm", torch::nn::LayerNorm(torch::nn::LayerNormOptions({L})));
   dp_outer_ = register_module("dp_outer", Mlp(L, L, L, H, false));
@@ -80,10 +87,18 @@ BlockLatents AgnbBlock::forward(const BlockLatents& in, const TypedGraph& g) {
   const auto& e = in.edges;
   const int64_t n = v.size(0), L = latent_;
 
+  // Row k of [W_a x | W_b x] gathered: the receiver's part and the sender's part of a first
+  // layer on [e_ab, x_a, x_b].
+  auto node_parts = [&](torch::nn::Linear& projection, const torch::Tensor& x) {
+    const auto p = projection->forward(x);  // [n, 2L]
+    return gather_receivers(p.slice(1, 0, L), g.order) +
+           gather_senders(p.slice(1, L, 2 * L), g.order);
+  };
+
   // 1. Position-aware module.
-  const auto vs = gather_senders(v, g.order), vr = gather_receivers(v, g.order);
   const auto e1 =
-      batch_norm(edge_bn_, edge_conv_->forward(edge_mlp_->forward(torch::cat({e, vr, vs}, 1))));
+      batch_norm(edge_bn_, edge_conv_->forward(edge_mlp_->forward_after_first(
+                               edge_mlp_->first()->forward(e) + node_parts(edge_nodes_, v))));
   const auto v1 = batch_norm(node_bn_, node_conv_->forward(node_mlp_->forward(v))) +
                   sum_to_receivers(edge_message_->forward(e1), g.order, n);
   const auto u1 = batch_norm(velocity_bn_, velocity_conv_->forward(velocity_mlp_->forward(v))) +
@@ -91,8 +106,8 @@ BlockLatents AgnbBlock::forward(const BlockLatents& in, const TypedGraph& g) {
   const auto h = v1 + u1;
 
   // 2-3. Attention and messages per link type.
-  const auto hs = gather_senders(h, g.order), hr = gather_receivers(h, g.order);
-  const auto phi_a = phi_a_->forward(torch::cat({e1, hr, hs}, 1));  // [E, L]
+  const auto phi_a = phi_a_->forward_after_first(phi_a_->first()->forward(e1) +
+                                                 node_parts(phi_a_nodes_, h));  // [E, L]
   std::array<torch::Tensor, kLinkTypes> aggregated;
   for (size_t t = 0; t < size_t(kLinkTypes); ++t) {
     const auto& typed = g.types[t];
@@ -101,8 +116,8 @@ BlockLatents AgnbBlock::forward(const BlockLatents& in, const TypedGraph& g) {
       continue;
     }
     const auto idx = typed.edges;
-    auto z = torch::leaky_relu(source_[t]->forward(hs.index_select(0, idx)) +
-                                   target_[t]->forward(hr.index_select(0, idx)) +
+    auto z = torch::leaky_relu(source_[t]->forward(h).index_select(0, g.senders[t]) +
+                                   target_[t]->forward(h).index_select(0, g.receivers[t]) +
                                    edge_[t]->forward(e1.index_select(0, idx)),
                                0.2);
     auto score = (z.view({-1, heads_, L / heads_}) * attention_[t]).sum(2);  // [E_T, heads]
@@ -126,12 +141,15 @@ double AgnbBlock::flops(int64_t nodes, int64_t edges) const {
   const double n = double(nodes), E = double(edges);
   double f = E * (edge_mlp_->flops_per_row() + linear_flops(edge_conv_) +
                   edge_message_->flops_per_row() + phi_a_->flops_per_row());
-  f += n * (node_mlp_->flops_per_row() + linear_flops(node_conv_) + velocity_mlp_->flops_per_row() +
+  f += n * (linear_flops(edge_nodes_) + linear_flops(phi_a_nodes_) + node_mlp_->flops_per_row() +
+            linear_flops(node_conv_) + velocity_mlp_->flops_per_row() +
             linear_flops(velocity_conv_) + velocity_skip_->flops_per_row() +
             dp_inner_->flops_per_row() + dp_outer_->flops_per_row() + update_->flops_per_row());
-  // Each edge is of one type: its three attention projections; every node runs the four phi_B.
-  f += E * (linear_flops(source_[0]) + linear_flops(target_[0]) + linear_flops(edge_[0]));
-  for (size_t t = 0; t < size_t(kLinkTypes); ++t) f += n * phi_b_[t]->flops_per_row();
+  // Each edge is of one type: its attention's edge projection; every node runs the four types'
+  // source and target projections and the four phi_B.
+  f += E * linear_flops(edge_[0]);
+  for (size_t t = 0; t < size_t(kLinkTypes); ++t)
+    f += n * (linear_flops(source_[t]) + linear_flops(target_[t]) + phi_b_[t]->flops_per_row());
   return f;
 }
 

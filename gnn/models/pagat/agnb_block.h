@@ -25,6 +25,10 @@
 //     zero sum for it.
 //  4. v <- v + MLP([h, STA, SPA, DPA, BD]) (LayerNorm at its end, as GNS's node MLP); e <- e + e'.
 //
+// CPU cost: as in GNS, a first layer on [e_ab, v_a, v_b] is computed as W_e e_ab + (W_a v)[a] +
+// (W_b v)[b] (per-node projections gathered to the edges, not an [E, 3L] product: E is ~8 n),
+// and so are the attention's W_T,src h_b and W_T,dst h_a; only W_T,e e'_ab is per edge.
+//
 // GN block (ablation "plain GN blocks instead of AGNB"): GNS's interaction step,
 //   e <- e + MLP([e_ab, v_a, v_b]),  v <- v + MLP([v_a, sum_b e_ab]),  LayerNorm on both MLPs.
 
@@ -43,6 +47,7 @@ struct TypedGraph {
   EdgeOrder order;                                  // the whole edge list
   std::array<TypedEdges, kLinkTypes> types;         // its edges by link type, CSR by receiver
   std::array<torch::Tensor, kLinkTypes> receivers;  // each type's edges' receivers [E_T]
+  std::array<torch::Tensor, kLinkTypes> senders;    // and senders [E_T]
   torch::Tensor physics_bias;  // [E, heads] attention biases, undefined when the module is off
   int64_t nodes = 0;
 };
@@ -66,6 +71,9 @@ class NormalisedMlpImpl : public torch::nn::Module {
  public:
   NormalisedMlpImpl(int64_t in, int64_t width, int hidden_layers);
   torch::Tensor forward(const torch::Tensor& x);
+  // The rest after the first Linear was applied (its pre-activation output).
+  torch::Tensor forward_after_first(const torch::Tensor& first_pre_activation);
+  torch::nn::Linear first() { return mlp_->first(); }
   double flops_per_row() const { return mlp_->flops_per_row(); }
 
  private:
@@ -85,17 +93,21 @@ class AgnbBlock : public ProcessorBlock {
   // (batch statistics of a single row are undefined).
   torch::Tensor batch_norm(torch::nn::BatchNorm1d& bn, const torch::Tensor& x);
   int64_t latent_, heads_;
-  // Position-aware module.
+  // Position-aware module; the edge MLP's first layer acts on e, `edge_nodes_` holds its parts
+  // on the receiver's and the sender's latents ([receiver | sender], no bias).
   Mlp edge_mlp_{nullptr}, edge_message_{nullptr}, node_mlp_{nullptr}, velocity_mlp_{nullptr},
       velocity_skip_{nullptr};
+  torch::nn::Linear edge_nodes_{nullptr};
   torch::nn::Linear edge_conv_{nullptr}, node_conv_{nullptr}, velocity_conv_{nullptr};
   torch::nn::BatchNorm1d edge_bn_{nullptr}, node_bn_{nullptr}, velocity_bn_{nullptr};
-  // Attention per link type: W_src, W_dst, W_e (no biases but W_dst's) and a [heads, L / heads].
+  // Attention per link type: W_src, W_dst (per node), W_e (no biases but W_dst's) and a
+  // [heads, L / heads].
   std::array<torch::nn::Linear, kLinkTypes> source_{nullptr, nullptr, nullptr, nullptr},
       target_{nullptr, nullptr, nullptr, nullptr}, edge_{nullptr, nullptr, nullptr, nullptr};
   std::array<torch::Tensor, kLinkTypes> attention_;
-  // Messages.
+  // Messages; phi_A's first layer acts on e', `phi_a_nodes_` on [h_receiver | h_sender].
   NormalisedMlp phi_a_{nullptr};
+  torch::nn::Linear phi_a_nodes_{nullptr};
   std::array<NormalisedMlp, kLinkTypes> phi_b_{nullptr, nullptr, nullptr, nullptr};
   Mlp dp_inner_{nullptr}, dp_outer_{nullptr};
   torch::nn::LayerNorm dp_norm_{nullptr};
