@@ -51,11 +51,8 @@ torch::Tensor DpiModel::propagate_in_chunks(const GraphInput& g, const EdgeOrder
     for (int64_t c = first_chunk; c < last_chunk; ++c) {
       const int64_t c0 = c * kChunk, c1 = std::min(E, c0 + kChunk), rows = c1 - c0;
       auto x = a.slice(0, 0, rows), y = b.slice(0, 0, rows);
-      gather_pair_sum(receiver_part.data_ptr<float>(), sender_part.data_ptr<float>(),
-                      order.receivers.data_ptr<int64_t>() + c0,
-                      order.senders.data_ptr<int64_t>() + c0, x.data_ptr<float>(), rows, R);
-      x.addmm_(edge_features.slice(0, c0, c1), first->weight.t());
-      x.relu_();
+      edge_first_layer_chunk(x, receiver_part, sender_part, order, edge_features, first->weight,
+                             c0);
       // The encoder's other layers, each followed by a ReLU (the last one by the ReLU of c_ij).
       for (size_t l = 1; l < relation_encoder_->linears(); ++l) {
         auto layer = relation_encoder_->linear(l);

@@ -225,11 +225,7 @@ torch::Tensor GnsModel::edge_update_in_chunks(size_t k, const torch::Tensor& e,
     for (int64_t c = first; c < last; ++c) {
       const int64_t c0 = c * kChunk, c1 = std::min(E, c0 + kChunk), rows = c1 - c0;
       auto x = a.slice(0, 0, rows), y = b.slice(0, 0, rows);
-      gather_pair_sum(receiver_part.data_ptr<float>(), sender_part.data_ptr<float>(),
-                      order.receivers.data_ptr<int64_t>() + c0,
-                      order.senders.data_ptr<int64_t>() + c0, x.data_ptr<float>(), rows, L);
-      x.addmm_(edges.slice(0, c0, c1), mlp->first()->weight.t());
-      x.relu_();
+      edge_first_layer_chunk(x, receiver_part, sender_part, order, edges, mlp->first()->weight, c0);
       finish_mlp_chunk(*mlp, x, y, out.data_ptr<float>() + c0 * L, /*accumulate=*/false);
     }
   });

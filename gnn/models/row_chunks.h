@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <cstdint>
 
+#include "gnn/graph/segment_ops.h"
 #include "gnn/runtime/runtime.h"
 
 namespace gnn {
@@ -47,6 +48,22 @@ inline void gather_pair_sum(const float* a, const float* b, const int64_t* ia, c
     const float* y = b + ib[r] * width;
     for (int64_t c = 0; c < width; ++c) out[c] = x[c] + y[c];
   }
+}
+
+// An MLP's first layer on [e_ij, v_i, v_j] for the edge rows c0 .. c0 + x.size(0), in place in
+// `x` [rows, width]: relu(receiver_part[receiver] + sender_part[sender] + edges W^T), the node
+// parts projected per node beforehand (receiver_part carrying the layer's bias) - the first
+// step of GNS's and DPI-Nets' fused edge passes.
+inline void edge_first_layer_chunk(torch::Tensor& x, const torch::Tensor& receiver_part,
+                                   const torch::Tensor& sender_part, const EdgeOrder& order,
+                                   const torch::Tensor& edges, const torch::Tensor& weight,
+                                   int64_t c0) {
+  const int64_t rows = x.size(0);
+  gather_pair_sum(receiver_part.data_ptr<float>(), sender_part.data_ptr<float>(),
+                  order.receivers.data_ptr<int64_t>() + c0, order.senders.data_ptr<int64_t>() + c0,
+                  x.data_ptr<float>(), rows, x.size(1));
+  x.addmm_(edges.slice(0, c0, c0 + rows), weight.t());
+  x.relu_();
 }
 
 }  // namespace gnn
