@@ -91,7 +91,7 @@ class PagatModel : public GraphModel {
   double radius() const override { return config_.radius; }
   double noise_std() const override { return config_.noise_std; }
   bool needs_typing() const override { return true; }
-  // Measured (runtime.h): 2 + 1 threads 3.6 x faster than 2 + 2.
+  // Measured (runtime.h): 2 + 1 threads about twice as fast as 2 + 2.
   bool infers_on_one_blas_thread() const override { return true; }
   double typing_gamma() const override { return config_.gamma; }
   nlohmann::json config() const override;

@@ -27,8 +27,8 @@ struct RuntimeSettings {
 //    DPI-Nets' fused inference likewise (inference_bench, river_small baseline, 16 frames, ms
 //    per frame): 2 + 1 threads 16.7 / 17.4, 1 + 2 25.4 / 24.4, 2 + 2 23.9 / 24.2;
 //  - PAGATNet (whole-tensor products of 64-wide latents through autograd-free LibTorch ops)
-//    too: teacher 6 x 64 339 ms per frame with 2 + 1 threads, 1,229 ms with 2 + 2; student
-//    3 x 32 71 against 268 ms;
+//    too: teacher 6 x 64 255 ms per frame with 2 + 1 threads, 546 ms with 2 + 2; student
+//    3 x 32 57 against 116 ms;
 //  - a model run as whole-tensor products, one op after another (DPI-Nets 200/300 before its
 //    fused path), gets every core in both pools: 2 + 2 threads 0.36 / 0.45 / 0.47 s, 1 + 2
 //    0.47 / 0.50 / 0.45 s, 2 + 1 0.44 / 0.48 / 0.48 s.
