@@ -58,7 +58,8 @@ void run_rollout(const RolloutOptions& options);
 void run_eval(const EvalOptions& options);
 
 // OUT/comparison.json, OUT/comparison.md and OUT/comparison.png (rows: the simulator, then each
-// model; columns: six moments of the first trajectory).
+// model; columns: six moments of the first trajectory); OUT/teacher_student.md as well when the
+// models include a teacher and a student (teacher_student_table.h).
 void run_compare(const CompareOptions& options);
 
 }  // namespace infer

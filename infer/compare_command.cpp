@@ -15,6 +15,7 @@
 #include "gnn/training/checkpoint.h"
 #include "infer/commands.h"
 #include "infer/map_views.h"
+#include "infer/teacher_student_table.h"
 #include "infer/trajectory_scores.h"
 
 namespace infer {
@@ -151,7 +152,7 @@ void run_compare(const CompareOptions& o) {
   if (o.checkpoints.empty() && !o.constant_velocity)
     throw common::InputError("compare: give --checkpoints, --constant-velocity or both");
   common::OutputFolderPolicy policy;
-  policy.markers = {"comparison.json", "comparison.md"};
+  policy.markers = {"comparison.json", "comparison.md"};  // teacher_student.md: optional
   policy.replace = true;
   policy.inputs = {o.data_dir};
   for (const auto& c : o.checkpoints) policy.inputs.emplace_back(c);
@@ -315,6 +316,8 @@ void run_compare(const CompareOptions& o) {
   md << "| SPH (the data) | - | - | - | - | - | - | - | - | - | - | - | - | - | "
      << cell_text(sph_figure) << " |\n";
   common::write_file_atomically((out / "comparison.md").string(), md.str());
+  const std::string table6 = teacher_student_table(result);
+  if (!table6.empty()) common::write_file_atomically((out / "teacher_student.md").string(), table6);
 
   // Six moments of the first trajectory: truth, then each model.
   const gnn::Trajectory& t0 = trajectories.front();

@@ -131,6 +131,7 @@ TEST(Cli, CompareWritesARowPerModelAndTheFloor) {
   EXPECT_EQ(result["trajectories"].size(), 1u);
   EXPECT_TRUE(fs::exists(dir / "out/comparison.md"));
   EXPECT_TRUE(fs::exists(dir / "out/comparison.png"));
+  EXPECT_FALSE(fs::exists(dir / "out/teacher_student.md"));  // neither a teacher nor a student
   EXPECT_EQ(run(compare + " --out " + (dir / "nothing").string()), 2);  // no model at all
   EXPECT_EQ(run(compare + " --checkpoints " + (dir / "none.pt").string() + " --out " +
                 (dir / "missing").string()),
