@@ -4,6 +4,7 @@
 //   spill-infer eval    --checkpoint C --data DIR --split test --out OUT
 //   spill-infer compare --checkpoints A B ... [--constant-velocity] --data DIR --split test
 //                       --out OUT [--from T0] [--frames F]
+//   spill-infer export  --checkpoint C --out C_WEIGHTS.pt   (no optimiser state: to share)
 #include <CLI/CLI.hpp>
 #include <iostream>
 
@@ -93,9 +94,19 @@ int main(int argc, char** argv) {
                 "after each learned frame, this many iterations of the simulator's "
                 "constant-density correction on the predicted positions (default 0: off)")
       ->check(CLI::NonNegativeNumber);
+  std::string export_from, export_to;
+  auto* x = app.add_subcommand(
+      "export", "a weights-only copy of a checkpoint (no optimiser state), to share or commit");
+  x->add_option("--checkpoint", export_from, "checkpoint (*.pt) written by spill-train")
+      ->required()
+      ->check(CLI::ExistingFile);
+  x->add_option("--out", export_to, "the copy (*.pt); training cannot resume from it")->required();
   if (const auto stop = common::parse_command_line(app, argc, argv)) return *stop;
   try {
-    if (r->parsed()) {
+    if (x->parsed()) {
+      gnn::write_weights_only(export_from, export_to);
+      std::cerr << "weights of " << export_from << " written to " << export_to << "\n";
+    } else if (r->parsed()) {
       gnn::configure_runtime(gnn::inference_runtime(rollout.common.threads));
       rollout.common.log = &std::cerr;
       infer::run_rollout(rollout);

@@ -233,6 +233,14 @@ void load_optimizer_state(const std::string& path, torch::optim::Optimizer& opti
   }
 }
 
+void write_weights_only(const std::string& from, const std::string& to) {
+  std::error_code ignored;
+  if (std::filesystem::equivalent(from, to, ignored))
+    throw CheckpointError(to + ": is the checkpoint being copied; give another output file");
+  LoadedCheckpoint c = load_checkpoint(from);
+  save_checkpoint(to, *c.simulator, c.data, c.state, nullptr);
+}
+
 void check_data_fits(const nlohmann::json& d, const DatasetMetadata& m, const std::string& path) {
   auto mismatch = [&](const std::string& what, const std::string& trained,
                       const std::string& given) {

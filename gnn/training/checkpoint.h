@@ -53,6 +53,11 @@ LoadedCheckpoint load_checkpoint(const std::string& path,
                                  const std::optional<std::string>& expected_model = std::nullopt);
 void load_optimizer_state(const std::string& path, torch::optim::Optimizer& optimizer);
 
+// Writes a copy of the checkpoint at `from` without its optimiser state, for sharing and inference
+// (a third of the size with Adam): it loads, rolls out and teaches (`--teacher`) like the
+// original, but training cannot resume from it. Refuses to overwrite `from` itself.
+void write_weights_only(const std::string& from, const std::string& to);
+
 // Throws CheckpointError when the data does not fit the checkpoint (dimension, particle types,
 // particle radius or connectivity radius differ).
 void check_data_fits(const nlohmann::json& checkpoint_data, const DatasetMetadata& metadata,

@@ -141,6 +141,30 @@ TEST(Cli, CompareWritesARowPerModelAndTheFloor) {
                 (dir / "bad").string()),
             2);
   for (const char* out : {"nothing", "missing", "bad"}) EXPECT_FALSE(fs::exists(dir / out)) << out;
+
+  // spill-infer export: a weights-only copy rolls out exactly as the original does, is less than
+  // half its size (Adam keeps two moments per weight), and cannot be resumed from.
+  const std::string exported = (dir / "gns_weights.pt").string();
+  const std::string export_cmd = std::string(SPILL_INFER_EXE) + " export --checkpoint ";
+  ASSERT_EQ(run(export_cmd + (dir / "gns/last.pt").string() + " --out " + exported), 0);
+  EXPECT_LT(fs::file_size(exported), fs::file_size(dir / "gns/last.pt") / 2);
+  ASSERT_EQ(run(compare + " --checkpoints " + (dir / "gns/last.pt").string() + " " + exported +
+                " --out " + (dir / "exported").string()),
+            0);
+  nlohmann::json again;
+  std::ifstream(dir / "exported/comparison.json") >> again;
+  ASSERT_EQ(again["models"].size(), 2u);
+  EXPECT_EQ(again["models"][1]["name"], "gns_weights");
+  for (const char* key : {"one_step_mse", "rollout_mse_5", "rollout_mse_all"})
+    EXPECT_EQ(again["models"][1][key], again["models"][0][key]) << key;
+  fs::copy(dir / "gns", dir / "gns_resume", fs::copy_options::recursive);
+  fs::copy_file(exported, dir / "gns_resume/last.pt", fs::copy_options::overwrite_existing);
+  EXPECT_EQ(run(std::string(SPILL_TRAIN_EXE) + " --config " + SPILL_SOURCE_DIR +
+                "/configs/training/gns_smoke.json --data " + data +
+                " --threads 1 --set /steps=30 --resume --out " + (dir / "gns_resume").string()),
+            2);
+  EXPECT_EQ(run(export_cmd + exported + " --out " + exported), 2);  // not onto itself
+  EXPECT_EQ(run(export_cmd + (dir / "none.pt").string() + " --out " + exported), 2);
   fs::remove_all(dir);
 }
 
