@@ -154,6 +154,7 @@ Trainer::Trainer(TrainerOptions options, const std::function<TrainingData()>& lo
     settings.distillation_loss_weight = c.distillation_loss_weight;
     settings.distillation_beta = c.distillation_beta;
     settings.generator_strength = c.generator_strength;
+    settings.generator_until = c.generator_until;
     settings.distillation_stride = c.distillation_stride;
     settings.steps = c.steps;
     if (teacher_) teacher_->to(options_.device);

@@ -33,6 +33,7 @@ struct TrainingConfig {
   double distillation_loss_weight = 1.0;
   double distillation_beta = 1.0;
   double generator_strength = 0.5;
+  double generator_until = 0.25;
   int distillation_stride = 2;
 
   template <class V>
@@ -75,8 +76,14 @@ struct TrainingConfig {
     v.field("generator_strength", generator_strength,
             param("",
                   "PAGATNet student: lambda of the generator (v + lambda A(v_teacher)) at "
-                  "step 0, falling linearly to 0 at the last step")
+                  "step 0, falling linearly to 0 at generator_until")
                 .non_negative());
+    v.field("generator_until", generator_until,
+            param("",
+                  "PAGATNet student: the fraction of the run at which the generator's lambda "
+                  "reaches 0; the student trains alone after it")
+                .non_negative()
+                .at_most(1));
     v.field("distillation_stride", distillation_stride,
             param("",
                   "PAGATNet student: student block k pairs with teacher block "

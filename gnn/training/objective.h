@@ -61,7 +61,8 @@ struct ObjectiveSettings {
   double attention_loss_weight = 0.1;     // l2
   double distillation_loss_weight = 1.0;  // l3
   double distillation_beta = 1.0;         // beta
-  double generator_strength = 0.5;        // lambda at step 0, falling linearly to 0 at the end
+  double generator_strength = 0.5;        // lambda at step 0, falling linearly to 0 ...
+  double generator_until = 0.25;          // ... at this fraction of the run, then 0
   int distillation_stride = 2;            // student block k pairs with teacher block s (k+1) - 1
   int64_t steps = 1;                      // the run's length (the generator's schedule)
 };

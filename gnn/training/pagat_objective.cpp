@@ -76,8 +76,14 @@ ForwardOptions PagatObjective::forward_options(const TrainingBatch& batch, int64
     keep.keep_latents = true;
     teacher_output_ = teacher_->forward(batch.graph, keep);
   }
-  const double progress = double(step) / double(std::max<int64_t>(1, settings_.steps));
-  const double lambda = settings_.generator_strength * std::max(0.0, 1.0 - progress);
+  // The adapters learn through this path too, so while lambda > 0 they can grow as it falls
+  // and keep the teacher's features in at full weight: a schedule that ends with the run
+  // leaves a student that has never run alone (measured: its validation loss 10 x the
+  // student's trained without a teacher). So lambda ends early and the rest of the run trains
+  // the student alone, still under L_T-S and L_MKD.
+  const double end = settings_.generator_until * double(std::max<int64_t>(1, settings_.steps));
+  const double lambda =
+      end > 0 ? settings_.generator_strength * std::max(0.0, 1.0 - double(step) / end) : 0.0;
   if (lambda > 0)
     options.after_layer = [this, lambda](size_t k, torch::Tensor& nodes, torch::Tensor& edges) {
       const size_t t = teacher_block(k);

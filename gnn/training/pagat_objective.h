@@ -9,8 +9,9 @@
 //    PagatConfig::teacher_latent), student block k paired with teacher block s (k + 1) - 1
 //    (s = distillation_stride, MODELS.md's "block 2l" for l counted from 1):
 //    - the generator: after block k the student's latents become v + lambda A_k(v_teacher) (and
-//      likewise for edges), lambda falling linearly from generator_strength to 0 over the run so
-//      that the student stands alone by the end, as it must at inference;
+//      likewise for edges), lambda falling linearly from generator_strength to 0 at the
+//      fraction generator_until of the run, after which the student trains alone (with L_T-S
+//      and L_MKD), as it must run at inference (why not until the end: forward_options);
 //    - L_T-S: mean over fluid nodes of |A_last(v_teacher) - v_student|^2 / width, on the final
 //      node latents (the student's own, before the generator);
 //    - L_MKD: for every pair and every node i, KL(p_teacher,i || p_student,i) of the

@@ -116,7 +116,7 @@ TEST(Distillation, EachTermReachesItsParametersOnlyAndTheTeacherStaysFrozen) {
 
 // The generator adds the teacher's adapted latents after each paired block: at step 0 the
 // acceleration's gradient reaches the first pair's adapters (through the second block) and the
-// output differs from the student's own; at the last step (strength 0) neither.
+// output differs from the student's own; from generator_until (here 40 % of the run) neither.
 TEST(Distillation, TheGeneratorFeedsTheTeacherInOnlyWhileItsStrengthLasts) {
   torch::manual_seed(42);
   const auto g = typed_graphs::random_typed_graph(300, 0.2);
@@ -125,6 +125,7 @@ TEST(Distillation, TheGeneratorFeedsTheTeacherInOnlyWhileItsStrengthLasts) {
   student->eval();  // batch statistics aside, the same function each call
   gnn::ObjectiveSettings settings;
   settings.generator_strength = 1;
+  settings.generator_until = 0.4;
   settings.steps = 100;
   auto objective = gnn::make_objective(*student, settings, teacher);
   const auto batch = batch_of(g);
@@ -134,7 +135,9 @@ TEST(Distillation, TheGeneratorFeedsTheTeacherInOnlyWhileItsStrengthLasts) {
   EXPECT_TRUE(at_start.count("node_adapter0.weight"));
   EXPECT_TRUE(at_start.count("edge_adapter0.weight"));
   EXPECT_FALSE(torch::allclose(start.acceleration, own));
-  const auto end = student->forward(g, objective->forward_options(batch, 100));
+  const auto before_end = student->forward(g, objective->forward_options(batch, 39));
+  EXPECT_FALSE(torch::allclose(before_end.acceleration, own));
+  const auto end = student->forward(g, objective->forward_options(batch, 40));
   const auto at_end = reached_by(objective->evaluate(end, batch).terms.at("acc"), *student);
   EXPECT_FALSE(any_starts_with(at_end, "node_adapter") || any_starts_with(at_end, "edge_adapter"));
   EXPECT_TRUE(torch::equal(end.acceleration, own));
