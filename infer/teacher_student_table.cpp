@@ -49,8 +49,8 @@ std::string teacher_student_table(const nlohmann::json& comparison) {
   if (teacher < 0 || !any_student) return "";
 
   const nlohmann::json& ref = rows[size_t(teacher)];
-  const double ref_frame = value(ref, "seconds_per_frame"),
-               ref_flops = value(ref, "flops_per_particle");
+  const double ref_frame = value(ref, "seconds_per_frame");
+  const double ref_flops = value(ref, "flops_per_particle");
   const double ref_params = value(ref, "params");
   std::ostringstream md;
   md << "# PAGATNet: teacher and students\n\n"
@@ -66,10 +66,9 @@ std::string teacher_student_table(const nlohmann::json& comparison) {
         "pass's matrix products (2 per multiply-add) on the first trajectory's starting graph, "
         "over its particles. Errors: mean ± standard deviation over the trajectories, as in "
         "`comparison.json`.\n\n";
-  md << "| model | params | params / teacher | FLOPs per particle | FLOPs / teacher | s per frame "
-        "| "
-        "speed-up | s per simulated s | one-step MSE (m²) | MSE @20 | MSE @50 | oil IoU @20 | "
-        "slick area error |\n";
+  md << "| model | params | params / teacher | FLOPs per particle | FLOPs / teacher "
+        "| s per frame | speed-up | s per simulated s | one-step MSE (m²) | MSE @20 | MSE @50 "
+        "| oil IoU @20 | slick area error |\n";
   md << "|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
   auto ratio = [](double a, double b) {
     return a > 0 && b > 0 ? number(nlohmann::json(a / b), "%.2f") : std::string("-");
