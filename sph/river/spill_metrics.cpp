@@ -85,7 +85,8 @@ nlohmann::json SpillMetrics::to_json() const {
                       {"oil_in_reach_m3", f.oil_in_reach_m3},
                       {"equivalent_radius_m", f.slick.equivalent_radius_m},
                       {"mean_thickness_m", f.slick.mean_thickness_m},
-                      {"patches", f.slick.patches}});
+                      {"patches", f.slick.patches},
+                      {"largest_patch_share", f.slick.largest_patch_share}});
   nlohmann::json arrivals = nlohmann::json::object();
   for (const auto& w : watch_points_) {
     const auto a = arrival(w.name);
@@ -109,6 +110,8 @@ nlohmann::json SpillMetrics::to_json() const {
             {"equivalent_radius_m", "radius of a disc of the slick's area"},
             {"mean_thickness_m", "oil volume in the active particles over the slick's area"},
             {"patches", "separate pieces of the slick (cells joined by an edge or a corner)"},
+            {"largest_patch_share",
+             "share of the oil in oil particles that lies in the largest patch (0 without oil)"},
             {"arrival_s", "first frame with oil within the watch point's radius (null: never)"}}},
           {"leak_x_m", leak_x_},
           {"cell_m", cell_},
@@ -155,6 +158,7 @@ nlohmann::json StillWaterSlickMetrics::to_json() const {
                       {"equivalent_radius_m", s.equivalent_radius_m},
                       {"mean_thickness_m", s.mean_thickness_m},
                       {"patches", s.patches},
+                      {"largest_patch_share", s.largest_patch_share},
                       {"oil_volume_m3", s.oil_volume_m3}});
   return {{"definitions",
            {{"oil", "a particle with oil volume fraction >= 0.5"},
@@ -162,6 +166,8 @@ nlohmann::json StillWaterSlickMetrics::to_json() const {
             {"equivalent_radius_m", "radius of a disc of the slick's area"},
             {"mean_thickness_m", "oil volume over the slick's area"},
             {"patches", "separate pieces of the slick (cells joined by an edge or a corner)"},
+            {"largest_patch_share",
+             "share of the oil in oil particles that lies in the largest patch (0 without oil)"},
             {"oil_volume_m3", "oil volume in the active particles"}}},
           {"cell_m", cell_},
           {"frames", frames}};

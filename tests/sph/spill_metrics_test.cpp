@@ -82,10 +82,13 @@ TEST(SlickShape, AreaRadiusThicknessAndPatchesOfHandPlacedOil) {
   EXPECT_NEAR(s.oil_volume_m3, 11 * 0.001, 1e-7);
   EXPECT_NEAR(s.mean_thickness_m, 0.011 / 0.1, 1e-6);
   EXPECT_EQ(s.patches, 2);
+  EXPECT_NEAR(s.largest_patch_share, 10.0 / 11.0, 1e-6);    // the block and its stacked particle
   f.add(Vec3(0.35f, 0.35f, 0), Vec3::Zero(), volume, oil);  // touches the block at a corner
   f.add(Vec3(0.45f, 0.25f, 0), Vec3::Zero(), volume, oil);
   f.add(Vec3(0.55f, 0.15f, 0), Vec3::Zero(), volume, oil);  // and on to the lone particle
   EXPECT_EQ(measure_slick(f, d).patches, 1);
+  EXPECT_NEAR(measure_slick(f, d).largest_patch_share, 1.0, 1e-6);
+  EXPECT_EQ(measure_slick(FluidParticles(), d).largest_patch_share, 0);
 }
 
 }  // namespace
