@@ -27,13 +27,12 @@ SlickShape measure_slick(const FluidParticles& f, Real cell) {
     oil_in_cell[{long(std::floor(p.x() / cell)), long(std::floor(p.y() / cell))}] += oil;
     oil_in_oil_particles += oil;
   }
-  std::set<std::pair<long, long>> cells;
-  for (const auto& [c, oil] : oil_in_cell) cells.insert(c);
-  s.area_m2 = double(cells.size()) * double(cell) * double(cell);
+  s.area_m2 = double(oil_in_cell.size()) * double(cell) * double(cell);
   s.equivalent_radius_m = std::sqrt(s.area_m2 / kPi);
   s.mean_thickness_m = s.area_m2 > 0 ? s.oil_volume_m3 / s.area_m2 : 0;
   // Patches: flood fill over the eight neighbours of each cell.
-  std::set<std::pair<long, long>> unseen = cells;
+  std::set<std::pair<long, long>> unseen;
+  for (const auto& [c, oil] : oil_in_cell) unseen.insert(unseen.end(), c);
   while (!unseen.empty()) {
     ++s.patches;
     double patch_oil = 0;

@@ -14,6 +14,20 @@
 
 namespace sph {
 
+namespace {
+
+// The definitions of the slick's shape, the same in river and still-water spill.json.
+nlohmann::json slick_shape_definitions() {
+  return {{"oil", "a particle with oil volume fraction >= 0.5"},
+          {"slick_area_m2", "top-view cells one particle diameter wide that hold oil"},
+          {"equivalent_radius_m", "radius of a disc of the slick's area"},
+          {"patches", "separate pieces of the slick (cells joined by an edge or a corner)"},
+          {"largest_patch_share",
+           "share of the oil in oil particles that lies in the largest patch (0 without oil)"}};
+}
+
+}  // namespace
+
 SpillMetrics::SpillMetrics(const Terrain& terrain, Real water_level, Real leak_x, Real cell,
                            std::vector<WatchPointConfig> watch_points)
     : leak_x_(leak_x), cell_(cell), x0_(terrain.origin_x), watch_points_(std::move(watch_points)) {
@@ -97,22 +111,18 @@ nlohmann::json SpillMetrics::to_json() const {
       if (f.*side > 0) return nlohmann::json(f.t);
     return nlohmann::json(nullptr);
   };
-  return {{"definitions",
-           {{"oil", "a particle with oil volume fraction >= 0.5"},
-            {"slick_area_m2", "top-view cells one particle diameter wide that hold oil"},
-            {"front_distance_m", "furthest oil downstream (+x) of the leak"},
-            {"left_bank_oiled_m",
-             "length along the river of the left (+y) bank that oil has come within a particle "
-             "diameter of, so far"},
-            {"right_bank_oiled_m", "the same for the right bank"},
-            {"oil_released_m3", "oil released by the leaks so far"},
-            {"oil_in_reach_m3", "oil volume in the active particles"},
-            {"equivalent_radius_m", "radius of a disc of the slick's area"},
-            {"mean_thickness_m", "oil volume in the active particles over the slick's area"},
-            {"patches", "separate pieces of the slick (cells joined by an edge or a corner)"},
-            {"largest_patch_share",
-             "share of the oil in oil particles that lies in the largest patch (0 without oil)"},
-            {"arrival_s", "first frame with oil within the watch point's radius (null: never)"}}},
+  nlohmann::json definitions = slick_shape_definitions();
+  definitions.update(nlohmann::json{
+      {"front_distance_m", "furthest oil downstream (+x) of the leak"},
+      {"left_bank_oiled_m",
+       "length along the river of the left (+y) bank that oil has come within a particle "
+       "diameter of, so far"},
+      {"right_bank_oiled_m", "the same for the right bank"},
+      {"oil_released_m3", "oil released by the leaks so far"},
+      {"oil_in_reach_m3", "oil volume in the active particles"},
+      {"mean_thickness_m", "oil volume in the active particles over the slick's area"},
+      {"arrival_s", "first frame with oil within the watch point's radius (null: never)"}});
+  return {{"definitions", definitions},
           {"leak_x_m", leak_x_},
           {"cell_m", cell_},
           {"first_left_bank_contact_s", first_contact(&SpillFrame::left_bank_m)},
@@ -160,17 +170,10 @@ nlohmann::json StillWaterSlickMetrics::to_json() const {
                       {"patches", s.patches},
                       {"largest_patch_share", s.largest_patch_share},
                       {"oil_volume_m3", s.oil_volume_m3}});
-  return {{"definitions",
-           {{"oil", "a particle with oil volume fraction >= 0.5"},
-            {"slick_area_m2", "top-view cells one particle diameter wide that hold oil"},
-            {"equivalent_radius_m", "radius of a disc of the slick's area"},
-            {"mean_thickness_m", "oil volume over the slick's area"},
-            {"patches", "separate pieces of the slick (cells joined by an edge or a corner)"},
-            {"largest_patch_share",
-             "share of the oil in oil particles that lies in the largest patch (0 without oil)"},
-            {"oil_volume_m3", "oil volume in the active particles"}}},
-          {"cell_m", cell_},
-          {"frames", frames}};
+  nlohmann::json definitions = slick_shape_definitions();
+  definitions.update(nlohmann::json{{"mean_thickness_m", "oil volume over the slick's area"},
+                                    {"oil_volume_m3", "oil volume in the active particles"}});
+  return {{"definitions", definitions}, {"cell_m", cell_}, {"frames", frames}};
 }
 
 void write_slick_plot(const std::string& path,
