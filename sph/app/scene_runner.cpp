@@ -239,7 +239,10 @@ nlohmann::json run_scene(const LoadedScene& scene, const RunOptions& options) {
   for (const auto& b : scene.config.fluid_blocks) has_oil = has_oil || b.oil_fraction() > 0;
   for (const auto& e : scene.config.emitters) has_oil = has_oil || e.material == "oil";
   if (!spill && has_oil)
-    slick = std::make_unique<StillWaterSlickMetrics>(scene.config.particle_diameter());
+    slick = std::make_unique<StillWaterSlickMetrics>(
+        scene.config.particle_diameter(),
+        1 - double(scene.config.materials.oil.density / scene.config.materials.water.density),
+        double(scene.config.gravity.norm()));
   auto record = [&](int frame) {
     if (spill) measure_spill(*spill, sim);
     if (slick) slick->measure(sim.fluid(), sim.time());

@@ -171,9 +171,26 @@ nlohmann::json StillWaterSlickMetrics::to_json() const {
                       {"largest_patch_share", s.largest_patch_share},
                       {"oil_volume_m3", s.oil_volume_m3}});
   nlohmann::json definitions = slick_shape_definitions();
-  definitions.update(nlohmann::json{{"mean_thickness_m", "oil volume over the slick's area"},
-                                    {"oil_volume_m3", "oil volume in the active particles"}});
-  return {{"definitions", definitions}, {"cell_m", cell_}, {"frames", frames}};
+  definitions.update(nlohmann::json{
+      {"mean_thickness_m", "oil volume over the slick's area"},
+      {"oil_volume_m3", "oil volume in the active particles"},
+      {"fay_gravity_inertia",
+       "fit of A - A0 = c t^slope to the area, from the frame where the slick has grown by a "
+       "fifth of its released area to the last before its mean thickness falls below two "
+       "particle diameters; k1 = sqrt(c / (pi (Delta g V)^(1/2))) from the rate of a fit at "
+       "slope 1 (Fay: slope 1, k1 1.14); null when fewer than three frames fall in the window"}});
+  const FayFit fay = fit_fay_gravity_inertia(frames_, delta_, gravity_, cell_);
+  nlohmann::json fit = nullptr;
+  if (fay.valid)
+    fit = {{"window_s", {fay.window_start_s, fay.window_end_s}},
+           {"frames", fay.frames},
+           {"slope", fay.slope},
+           {"k1", fay.k1},
+           {"fay_k1", kFayK1}};
+  return {{"definitions", definitions},
+          {"cell_m", cell_},
+          {"fay_gravity_inertia", fit},
+          {"frames", frames}};
 }
 
 void write_slick_plot(const std::string& path,

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "sph/core/particle_set.h"
+#include "sph/river/fay_spreading.h"
 #include "sph/river/river_configs.h"
 #include "sph/river/slick_shape.h"
 #include "sph/river/terrain.h"
@@ -54,16 +55,19 @@ class SpillMetrics {
 };
 
 // The slick of oil released on still water (a tank, no river): its shape frame by frame, for
-// spill.json and its plot.
+// spill.json and its plot, and the fit of Fay's gravity-inertia law to its growth.
 class StillWaterSlickMetrics {
  public:
-  explicit StillWaterSlickMetrics(Real cell) : cell_(cell) {}
+  // `relative_density_difference`: (rho_water - rho_oil) / rho_water; `gravity` in m/s^2.
+  StillWaterSlickMetrics(Real cell, double relative_density_difference, double gravity)
+      : cell_(cell), delta_(relative_density_difference), gravity_(gravity) {}
   void measure(const FluidParticles& fluid, double t);
   const std::vector<std::pair<double, SlickShape>>& frames() const { return frames_; }
   nlohmann::json to_json() const;
 
  private:
   Real cell_;
+  double delta_, gravity_;
   std::vector<std::pair<double, SlickShape>> frames_;
 };
 
