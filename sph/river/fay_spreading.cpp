@@ -17,7 +17,7 @@ FayFit fit_fay_gravity_inertia(const std::vector<std::pair<double, SlickShape>>&
   bool open = false;
   for (const auto& [t_abs, shape] : frames) {
     const double t = t_abs - t0, growth = shape.area_m2 - a0;
-    if (!open && growth < window.start_growth * a0) continue;
+    if (t <= 0 || (!open && growth < window.start_growth * a0)) continue;
     // The window closes where the slick thins to the resolution, or if it shrinks back.
     if (shape.mean_thickness_m < window.end_thickness_diameters * diameter || growth <= 0) break;
     if (!open) open = true, fit.window_start_s = t_abs;

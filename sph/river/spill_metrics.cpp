@@ -178,7 +178,8 @@ nlohmann::json StillWaterSlickMetrics::to_json() const {
        "fit of A - A0 = c t^slope to the area, from the frame where the slick has grown by a "
        "fifth of its released area to the last before its mean thickness falls below two "
        "particle diameters; k1 = sqrt(c / (pi (Delta g V)^(1/2))) from the rate of a fit at "
-       "slope 1 (Fay: slope 1, k1 1.14); null when fewer than three frames fall in the window"}});
+       "slope 1 (Fay: slope 1, k1 1.14); null for a run that starts without oil (a pour) or "
+       "with fewer than three frames in the window"}});
   const FayFit fay = fit_fay_gravity_inertia(frames_, delta_, gravity_, cell_);
   nlohmann::json fit = nullptr;
   if (fay.valid)
