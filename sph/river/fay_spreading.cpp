@@ -32,8 +32,7 @@ FayFit fit_fay_gravity_inertia(const std::vector<std::pair<double, SlickShape>>&
   fit.valid = true;
   fit.slope = (n * sxy - sx * sy) / spread;
   const double rate = sta / st2;
-  const double pi = std::acos(-1.0);
-  fit.k1 = std::sqrt(rate / (pi * std::sqrt(relative_density_difference * gravity * volume)));
+  fit.k1 = std::sqrt(rate / (M_PI * std::sqrt(relative_density_difference * gravity * volume)));
   return fit;
 }
 
