@@ -4,7 +4,7 @@
 //   spill-infer eval    --checkpoint C --data DIR --split test --out OUT
 //   spill-infer compare --checkpoints A B ... [--constant-velocity] --data DIR --split test
 //                       --out OUT [--from T0] [--frames F]
-//   spill-infer export  --checkpoint C --out C_WEIGHTS.pt   (no optimiser state: to share)
+//   spill-infer export  --checkpoint C --out C_WEIGHTS.pt [--force]   (no optimiser state)
 #include <CLI/CLI.hpp>
 #include <iostream>
 
@@ -101,10 +101,13 @@ int main(int argc, char** argv) {
       ->required()
       ->check(CLI::ExistingFile);
   x->add_option("--out", export_to, "the copy (*.pt); training cannot resume from it")->required();
+  bool export_force = false;
+  x->add_flag("--force", export_force,
+              "replace an existing --out, only if it is itself a checkpoint (atomically)");
   if (const auto stop = common::parse_command_line(app, argc, argv)) return *stop;
   try {
     if (x->parsed()) {
-      gnn::write_weights_only(export_from, export_to);
+      gnn::write_weights_only(export_from, export_to, export_force);
       std::cerr << "weights of " << export_from << " written to " << export_to << "\n";
     } else if (r->parsed()) {
       gnn::configure_runtime(gnn::inference_runtime(rollout.common.threads));

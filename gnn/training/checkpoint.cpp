@@ -233,10 +233,24 @@ void load_optimizer_state(const std::string& path, torch::optim::Optimizer& opti
   }
 }
 
-void write_weights_only(const std::string& from, const std::string& to) {
+void write_weights_only(const std::string& from, const std::string& to, bool replace) {
   std::error_code ignored;
   if (std::filesystem::equivalent(from, to, ignored))
     throw CheckpointError(to + ": is the checkpoint being copied; give another output file");
+  if (std::filesystem::exists(to, ignored)) {
+    if (!replace)
+      throw CheckpointError(to +
+                            ": already exists; give another output file, or --force to replace "
+                            "a checkpoint (training cannot resume from the copy)");
+    if (!std::filesystem::is_regular_file(to, ignored))
+      throw CheckpointError(to + ": is not a file; --force replaces only a checkpoint");
+    try {
+      load_checkpoint(to);
+    } catch (const CheckpointError& e) {
+      throw CheckpointError(to + ": is not a checkpoint, so --force does not replace it (" +
+                            e.what() + ")");
+    }
+  }
   LoadedCheckpoint c = load_checkpoint(from);
   save_checkpoint(to, *c.simulator, c.data, c.state, nullptr);
 }

@@ -55,8 +55,10 @@ void load_optimizer_state(const std::string& path, torch::optim::Optimizer& opti
 
 // Writes a copy of the checkpoint at `from` without its optimiser state, for sharing and inference
 // (a third of the size with Adam): it loads, rolls out and teaches (`--teacher`) like the
-// original, but training cannot resume from it. Refuses to overwrite `from` itself.
-void write_weights_only(const std::string& from, const std::string& to);
+// original, but training cannot resume from it. An existing `to` is refused (it may be another
+// run's last.pt, which the copy would make unresumable), unless `replace` is set and `to` is
+// itself a checkpoint other than `from`; the copy then replaces it atomically.
+void write_weights_only(const std::string& from, const std::string& to, bool replace);
 
 // Throws CheckpointError when the data does not fit the checkpoint (dimension, particle types,
 // particle radius or connectivity radius differ).

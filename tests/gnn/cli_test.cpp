@@ -164,6 +164,24 @@ TEST(Cli, CompareWritesARowPerModelAndTheFloor) {
                 " --threads 1 --set /steps=30 --resume --out " + (dir / "gns_resume").string()),
             2);
   EXPECT_EQ(run(export_cmd + exported + " --out " + exported), 2);  // not onto itself
+  // An existing --out is refused: over another run's last.pt the copy would silently make that
+  // run unresumable. --force replaces a checkpoint, never a file that is not one.
+  const fs::path other_run = dir / "other_run_last.pt", notes = dir / "notes.txt";
+  fs::copy_file(dir / "gns/last.pt", other_run);
+  const auto full_size = fs::file_size(other_run);
+  const std::string from_gns = export_cmd + (dir / "gns/last.pt").string() + " --out ";
+  EXPECT_EQ(run(from_gns + other_run.string()), 2);
+  EXPECT_EQ(fs::file_size(other_run), full_size);
+  std::ofstream(notes) << "boom positions";
+  EXPECT_EQ(run(from_gns + notes.string() + " --force"), 2);
+  std::string text;
+  std::getline(std::ifstream(notes), text);
+  EXPECT_EQ(text, "boom positions");
+  EXPECT_EQ(run(from_gns + dir.string() + " --force"), 2);  // a folder is not a checkpoint
+  ASSERT_EQ(run(from_gns + other_run.string() + " --force"), 0);
+  EXPECT_LT(fs::file_size(other_run), full_size / 2);  // now the weights-only copy
+  for (const auto& entry : fs::directory_iterator(dir))
+    EXPECT_NE(entry.path().extension(), ".tmp") << "left behind: " << entry.path();
   EXPECT_EQ(run(export_cmd + (dir / "none.pt").string() + " --out " + exported), 2);
   fs::remove_all(dir);
 }
