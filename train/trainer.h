@@ -3,7 +3,7 @@
 // trajectories, adds the random-walk noise, optionally pushes the window forward with the model
 // itself, and takes Adam steps on the model's training objective (gnn/training/objective.h: the
 // MSE of the normalised acceleration over fluid particles for GNS), with the learning rate of
-// MODELS.md. The model trains in train() mode and is validated in eval() mode. It validates
+// docs/models.md. The model trains in train() mode and is validated in eval() mode. It validates
 // periodically (one-step loss on fixed frames of the valid split, and a short rollout), logs to
 // RUN/log.csv and RUN/loss.svg, and writes RUN/last.pt atomically. Resuming from last.pt continues
 // the same random streams, so on one thread a resumed run reproduces the uninterrupted run's log

@@ -1,5 +1,5 @@
 #pragma once
-// Reader of the HDF5 data contract (DESIGN.md, "Data contract"): metadata.json and one file per
+// Reader of the HDF5 data contract (docs/design.md#data-contract): metadata.json and one file per
 // split holding one group per trajectory. Every shape and type is checked on load; an error names
 // the file and the group (DatasetError). Trajectories can also come from the simulator's tensor
 // recorder in-process, so training can run on freshly simulated data without a file.

@@ -17,7 +17,7 @@ struct GraphInput {
   torch::Tensor edge_index;     // [2, E] int64: senders, receivers
   torch::Tensor edge_features;  // [E, 4] float32: (x_sender - x_receiver) / radius, its norm
   torch::Tensor fluid;          // [n] bool: the nodes whose acceleration is predicted
-  // Heterogeneous typing (PAGATNet, MODELS.md): built only for a model whose needs_typing()
+  // Heterogeneous typing (PAGATNet, docs/models.md): built only for a model whose needs_typing()
   // says so, undefined otherwise.
   torch::Tensor node_class;  // [n] int64: oil/water x surface/inner, boundary
   torch::Tensor link_type;   // [E] int64: ST, SP, DP, BD

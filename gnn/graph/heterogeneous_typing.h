@@ -1,5 +1,5 @@
 #pragma once
-// PAGATNet's heterogeneous graph (MODELS.md, "Heterogeneous graph"): the class of every node and
+// PAGATNet's heterogeneous graph (docs/models.md, "Heterogeneous graph"): each node's class and
 // the type of every link of a frame's radius graph, recomputed each frame from the current
 // positions and phases.
 //
@@ -8,7 +8,7 @@
 //  - surface when its kernel sum  sum_j W(|x_i - x_j|) V  over itself and its neighbours of the
 //    same phase falls below gamma (a full neighbourhood gives about 1), or
 //  - when a node of the other fluid phase is at most two hops away (the interface's band).
-// Our reading: boundary neighbours count in the kernel sum with the same phase. MODELS.md says
+// Our reading: boundary neighbours count in the kernel sum with the same phase. docs/models.md says
 // "same-phase neighbours"; a wall is not a free surface, and without this every particle resting
 // on the floor of a tank would be typed as surface, like those at the air.
 // The kernel is the simulator's cubic spline with the graph's connectivity radius as its support,

@@ -1,5 +1,5 @@
 #pragma once
-// The constant-velocity floor of MODELS.md: every fluid particle keeps its last velocity (zero
+// The constant-velocity floor of docs/models.md: every fluid particle keeps its last velocity (zero
 // acceleration), so a rollout advances each position by its last displacement. Every learned
 // model must beat it. It has no parameters: it is never trained (spill-train refuses it), only
 // checkpointed, rolled out and evaluated like the learned models.

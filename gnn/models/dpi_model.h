@@ -1,6 +1,6 @@
 #pragma once
 // DPI-Nets (Li, Wu, Tedrake, Tenenbaum and Torralba 2019, "Learning Particle Dynamics for
-// Manipulating Rigid Bodies, Deformable Objects, and Fluids", ICLR), as MODELS.md specifies it,
+// Manipulating Rigid Bodies, Deformable Objects, and Fluids", ICLR), as docs/models.md specifies,
 // without the hierarchy of rigid clusters (our scenes are fluid only):
 //
 //   particle encoding   c_i  = ReLU(MLP_O(s_i))                        [n, particle_width]

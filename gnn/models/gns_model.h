@@ -1,6 +1,6 @@
 #pragma once
 // GNS (Sanchez-Gonzalez et al. 2020, "Learning to Simulate Complex Physics with Graph
-// Networks"), as MODELS.md specifies it: encode-process-decode with MLPs of `mlp_hidden_layers`
+// Networks"), as docs/models.md specifies: encode-process-decode with MLPs of `mlp_hidden_layers`
 // hidden layers (ReLU) and LayerNorm on encoders and processor, `layers` interaction-network
 // steps with separate weights and residuals on nodes and edges, sum aggregation to receivers,
 // and a decoder without LayerNorm to 4 outputs: the acceleration and the oil fraction's change.

@@ -1,6 +1,6 @@
 #pragma once
 // A graph model together with everything needed to use it on particles: the normalisation
-// statistics, the domain bounds and the input pipeline of MODELS.md. It turns a window of
+// statistics, the domain bounds and the input pipeline of docs/models.md. It turns a window of
 // positions and the particles' oil fractions into a graph (node and edge features), the model's
 // normalised output into an acceleration and a change of the oil fraction, advances positions by
 // semi-implicit Euler in frame units (v' = v + a, x' = x + v') and the oil fractions by an

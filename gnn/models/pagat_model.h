@@ -1,5 +1,5 @@
 #pragma once
-// PAGATNet (MODELS.md, "PAGATNet"): encode-process-decode on the heterogeneous graph.
+// PAGATNet (docs/models.md, "PAGATNet"): encode-process-decode on the heterogeneous graph.
 //  - Encoders as GNS's (MLP + LayerNorm) on the shared node features with a learned embedding
 //    of the node type (water, oil, boundary) and on the edge features. The surface/inner part of
 //    the node class is deliberately not an input: the class head below has to infer it, which is

@@ -39,7 +39,7 @@ class TrainingObjective {
   virtual ObjectiveValue evaluate(const ModelOutput& output, const TrainingBatch& batch) const = 0;
 };
 
-// MODELS.md's L_acc: mean squared error of the normalised acceleration over the fluid particles
+// docs/models.md's L_acc: mean squared error of the normalised acceleration over fluid particles
 // that are active in the next frame ("acc"), plus `fraction_weight` times the mean squared error
 // of the normalised change of the oil fraction over the same particles ("frac"): every model is a
 // surrogate of both what MTDF-SPH moves and how it moves oil between particles.

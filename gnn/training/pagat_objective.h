@@ -1,5 +1,5 @@
 #pragma once
-// PAGATNet's training objective (MODELS.md, "Teacher, student and FRKD"):
+// PAGATNet's training objective (docs/models.md, "Teacher, student and FRKD"):
 //   L = l1 L_acc + l2 L_att + l3 L_KD,   L_KD = L_T-S + beta L_MKD,
 // with
 //  - L_acc: the shared acceleration and oil-fraction MSE (AccelerationMse);
@@ -7,7 +7,7 @@
 //    heterogeneous typing's class (water/oil x inner/surface) of every fluid node;
 //  - only with a teacher (a frozen PAGATNet checkpoint; the student has adapters,
 //    PagatConfig::teacher_latent), student block k paired with teacher block s (k + 1) - 1
-//    (s = distillation_stride, MODELS.md's "block 2l" for l counted from 1):
+//    (s = distillation_stride, docs/models.md's "block 2l" for l counted from 1):
 //    - the generator: after block k the student's latents become v + lambda A_k(v_teacher) (and
 //      likewise for edges), lambda falling linearly from generator_strength to 0 at the
 //      fraction generator_until of the run, after which the student trains alone (with L_T-S

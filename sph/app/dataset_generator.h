@@ -1,6 +1,6 @@
 #pragma once
 // `spill-sim generate`: simulates N trajectories of a scene with parameters drawn from given
-// ranges and writes a dataset in the data contract (DESIGN.md): train.h5, valid.h5, test.h5 (one
+// ranges and writes a dataset (data contract: docs/design.md): train.h5, valid.h5, test.h5 (one
 // group per trajectory, "00000", "00001", ... within each file) and metadata.json (the keys of a
 // run's metadata plus the normalisation statistics over the training split, sequence lengths and
 // counts per split, and every trajectory's drawn parameters).

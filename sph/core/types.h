@@ -18,7 +18,7 @@ using Vec3d = Eigen::Matrix<double, 3, 1>;
 // the memory traffic of the neighbour lists compared with 64-bit indices.
 using Index = std::uint32_t;
 
-// Particle type codes of the data contract (DESIGN.md): 0 water, 1 oil, 2 boundary.
+// Particle type codes of the data contract (docs/design.md): 0 water, 1 oil, 2 boundary.
 enum class ParticleType : std::int32_t { kWater = 0, kOil = 1, kBoundary = 2 };
 
 // Axis-aligned box.

@@ -1,5 +1,5 @@
 #pragma once
-// Writes one trajectory in the HDF5 data contract (DESIGN.md), frame by frame:
+// Writes one trajectory in the HDF5 data contract (docs/design.md), frame by frame:
 //   /<group>/position          [T, N, 3] float32
 //   /<group>/velocity          [T, N, 3] float32
 //   /<group>/time              [T]       float64   simulated seconds of each frame

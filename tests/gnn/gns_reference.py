@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Plain-PyTorch reference of the GNS network, for tests/gnn/gns_reference_test.cpp.
 
-What it is: the GNS of /work/shared/MODELS.md ("GNS" section; Sanchez-Gonzalez et al. 2020,
+What it is: the GNS of docs/models.md ("GNS" section; Sanchez-Gonzalez et al. 2020,
 "Learning to Simulate Complex Physics with Graph Networks") written the plain, readable
 PyTorch way, independently of the C++ code and without its optimisations:
 

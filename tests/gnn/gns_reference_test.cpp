@@ -1,6 +1,6 @@
 // Our GNS forward against an independent plain-PyTorch implementation of the same network
 // (tests/gnn/gns_reference.py, run with Debian's python3-torch) on the same weights and one real
-// input graph. It is what shows that the baseline is the GNS of MODELS.md and not a look-alike:
+// input graph. It shows that the baseline is the GNS of docs/models.md and not a look-alike:
 // the C++ model splits layers and fuses and chunks its inference, the reference does none of it.
 // Both code paths of GnsModel::process are checked: the fused, chunked one taken without
 // autograd (eval mode under NoGradGuard, as rollouts run it) and the autograd one of training.

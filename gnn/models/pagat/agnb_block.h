@@ -1,5 +1,5 @@
 #pragma once
-// One processor step of PAGATNet (MODELS.md, "AGNB block"), and the plain GN block that replaces
+// One processor step of PAGATNet (docs/models.md, "AGNB block") and the plain GN block replacing
 // it in the no-attention ablation. Both map node latents v [n, L] and edge latents e [E, L] to
 // new ones, with residuals.
 //
@@ -9,7 +9,7 @@
 //       e'  = BN(Linear(MLP([e_ab, v_a, v_b])))                       a: receiver, b: sender
 //       v'  = BN(Linear(MLP(v_a))) + sum_b MLP(e'_ab)
 //       u'  = BN(Linear(MLP(v_a))) + MLP(v_a)                          (the velocity channel)
-//     The node state the rest of the block reads is h = v' + u': MODELS.md names the velocity
+//     The node state the rest of the block reads is h = v' + u': docs/models.md names the velocity
 //     channel but not where it goes; adding it to the position channel keeps one node width.
 //  2. Attention per link type T (ST, SP, DP, BD), GATv2 form with `heads` heads of L / heads
 //     channels: s_ab,k = a_T,k . LeakyReLU(W_T,src h_b + W_T,dst h_a + W_T,e e'_ab)_k, plus the

@@ -1,5 +1,5 @@
 #pragma once
-// PAGATNet's physics-aware module (MODELS.md, "Physics-aware module"): for every edge a relation
+// PAGATNet's physics-aware module (docs/models.md, "Physics-aware module"): per edge a relation
 // vector of the pair's physical quantities,
 //   r_ij = [ (x_j - x_i) / R (3), |x_j - x_i| / R, (v_j - v_i) normalised (3),
 //            density ratio_j - ratio_i, viscosity ratio_j - ratio_i,
