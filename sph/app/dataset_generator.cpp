@@ -21,10 +21,10 @@
 #include "sph/app/scene_runner.h"
 #include "sph/core/config.h"
 #include "sph/core/floating_point.h"
-#include "sph/core/scene.h"
-#include "sph/core/simulation.h"
 #include "sph/core/simulation_error.h"
 #include "sph/io/trajectory_writer.h"
+#include "sph/scene/scene_loader.h"
+#include "sph/simulation/simulation.h"
 
 namespace sph {
 

@@ -32,7 +32,7 @@
 #include "sph/app/solver_table.h"
 #include "sph/core/config.h"
 #include "sph/core/floating_point.h"
-#include "sph/core/scene.h"
+#include "sph/scene/scene_loader.h"
 
 namespace {
 

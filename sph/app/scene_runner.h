@@ -11,10 +11,10 @@
 #include <ostream>
 
 #include "sph/app/frame_loop.h"
-#include "sph/core/scene.h"
-#include "sph/core/simulation.h"
 #include "sph/core/simulation_error.h"
 #include "sph/river/spill_metrics.h"
+#include "sph/scene/scene_loader.h"
+#include "sph/simulation/simulation.h"
 
 namespace sph {
 

@@ -18,8 +18,8 @@
 #include "sph/app/scene_runner.h"
 #include "sph/app/solver_comparison.h"
 #include "sph/core/config.h"
-#include "sph/core/simulation.h"
 #include "sph/core/simulation_error.h"
+#include "sph/simulation/simulation.h"
 
 namespace sph {
 
