@@ -43,10 +43,10 @@ void PfsphSolver::after_non_pressure_forces(SolverHost& host, Real) {
 #pragma omp parallel for schedule(dynamic, 64)
   for (long li = 0; li < n; ++li) {
     const Index i = Index(li);
-    const int phase_i = fluid.oil_fraction[i] >= Real(0.5);
+    const int phase_i = is_oil(fluid.oil_fraction[i]);
     Vec3 a = Vec3::Zero();
     nb.fluid.for_each(i, [&](Index j, Index) {
-      const int phase_j = fluid.oil_fraction[j] >= Real(0.5);
+      const int phase_j = is_oil(fluid.oil_fraction[j]);
       a += strength[phase_i][phase_j] * pair_force(x[i] - x[j]);
     });
     if (walls)
