@@ -27,10 +27,6 @@ namespace fs = std::filesystem;
 
 namespace {
 
-nlohmann::json vec_json(const Vec3& v) {
-  return {double(v[0]), double(v[1]), double(v[2])};
-}
-
 void write_json(const fs::path& file, const nlohmann::json& j) {
   common::write_file_atomically(file, j.dump(2) + "\n");
 }
@@ -74,20 +70,6 @@ nlohmann::json run_summary(const Simulation& sim, double wall_s, double iteratio
     summary["flow"] = {
         {"emitted", flow->emitted()}, {"retired", flow->retired()}, {"fallen", flow->fallen()}};
   return summary;
-}
-
-std::unique_ptr<SpillMetrics> river_spill_metrics(const SceneConfig& scene) {
-  if (scene.leaks.empty() || !scene.terrain_grid) return nullptr;
-  Real leak_x = scene.leaks[0].x;
-  for (const auto& leak : scene.leaks) leak_x = std::min(leak_x, leak.x);
-  return std::make_unique<SpillMetrics>(*scene.terrain_grid, scene.terrain->water_level, leak_x,
-                                        scene.particle_diameter(), scene.watch_points);
-}
-
-void measure_spill(SpillMetrics& spill, const Simulation& sim) {
-  double released = 0;
-  for (const auto& e : sim.emitters()) released += e.oil_released();
-  spill.measure(sim.fluid(), sim.time(), released);
 }
 
 namespace {
@@ -154,35 +136,6 @@ nlohmann::json machine_description(int threads) {
           {"build_type", "Debug"},
 #endif
           {"real", sizeof(Real) == 4 ? "float32" : "float64"}};
-}
-
-nlohmann::json run_metadata(const Simulation& sim, const LoadedScene& scene, int frames) {
-  const SceneConfig& s = scene.config;
-  const Aabb& d = sim.domain();
-  const double stride =
-      std::max(1.0, std::round(shortest_decimal(s.output.frame_dt) / double(s.time_step.dt_max)));
-  return {{"dim", 3},
-          {"frame_dt", shortest_decimal(s.output.frame_dt)},
-          {"dt", shortest_decimal(s.output.frame_dt)},
-          {"frame_stride", long(stride)},
-          {"frame_stride_note",
-           "solver steps per frame at dt_max; the adaptive step may take more, see stats.json"},
-          {"sequence_length", frames + 1},
-          {"bounds",
-           {{shortest_decimal(d.min[0]), shortest_decimal(d.max[0])},
-            {shortest_decimal(d.min[1]), shortest_decimal(d.max[1])},
-            {shortest_decimal(d.min[2]), shortest_decimal(d.max[2])}}},
-          {"particle_radius", shortest_decimal(s.particle_radius)},
-          {"support_radius", shortest_decimal(s.support_radius())},
-          {"default_connectivity_radius", shortest_decimal(s.support_radius())},
-          {"gravity", vec_json(s.gravity)},
-          {"solver", s.solver},
-          {"kernel", s.kernel},
-          {"fluid_particles", sim.fluid().size()},
-          {"boundary_particles", sim.boundary().size()},
-          {"particle_types", {{"water", 0}, {"oil", 1}, {"boundary", 2}}},
-          {"scene_file", scene.file},
-          {"scene", scene.resolved}};
 }
 
 namespace {

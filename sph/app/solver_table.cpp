@@ -14,7 +14,7 @@
 #include "common/picture_grid.h"
 #include "common/progress.h"
 #include "common/stopwatch.h"
-#include "sph/app/frame_loop.h"
+#include "sph/simulation/frame_loop.h"
 #include "sph/app/scene_runner.h"
 #include "sph/app/solver_comparison.h"
 #include "sph/core/config.h"

@@ -14,7 +14,7 @@
 
 #include "common/output_folder.h"
 #include "common/picture_grid.h"
-#include "sph/app/frame_loop.h"
+#include "sph/simulation/frame_loop.h"
 #include "sph/core/config.h"
 #include "sph/core/simulation_error.h"
 #include "sph/scene/scene_loader.h"

@@ -6,7 +6,7 @@
 
 #include "common/output_folder.h"
 #include "sph/app/commands/command.h"
-#include "sph/app/dataset_generator.h"
+#include "sph/generation/dataset_folder.h"
 
 namespace sph {
 
