@@ -148,103 +148,83 @@ std::string cell_text(const Figure& f) {
 
 }  // namespace
 
-void run_compare(const CompareOptions& o) {
-  if (o.checkpoints.empty() && !o.constant_velocity)
-    throw common::InputError("compare: give --checkpoints, --constant-velocity or both");
-  common::OutputFolderPolicy policy;
-  policy.markers = {"comparison.json", "comparison.md"};  // teacher_student.md: optional
-  policy.replace = true;
-  policy.inputs = {o.data_dir};
-  for (const auto& c : o.checkpoints) policy.inputs.emplace_back(c);
-  policy.log = o.log;
-  common::OutputFolder output(o.out_dir, policy);
+namespace {
 
-  const gnn::DatasetMetadata m =
-      gnn::read_metadata((fs::path(o.data_dir) / "metadata.json").string());
-  std::vector<ComparedModel> models = load_models(o, m);
-  const std::vector<gnn::Trajectory> trajectories = gnn::read_split(o.data_dir, o.split, m);
-  if (trajectories.empty())
-    throw gnn::DatasetError(o.data_dir + "/" + o.split + ".h5: no trajectories");
+// The trajectories of the split, each with its rollout length, its spill scene and the measures
+// of its recorded frames (the same for every model: measured once).
+struct ComparedTrajectories {
+  std::vector<gnn::Trajectory> trajectories;
   std::vector<int64_t> frames;
   std::vector<std::unique_ptr<gnn::SpillScene>> scenes;
-  std::vector<FrameMeasures> recorded;  // the same for every model: measured once
-  for (const auto& t : trajectories) {
+  std::vector<FrameMeasures> recorded;
+};
+
+ComparedTrajectories read_compared(const CompareOptions& o, const gnn::DatasetMetadata& m) {
+  ComparedTrajectories c;
+  c.trajectories = gnn::read_split(o.data_dir, o.split, m);
+  if (c.trajectories.empty())
+    throw gnn::DatasetError(o.data_dir + "/" + o.split + ".h5: no trajectories");
+  for (const auto& t : c.trajectories) {
     const int64_t available = t.frames() - 1 - o.from;
     if (o.from < 0 || available < 1)
       throw common::InputError("--from " + std::to_string(o.from) + ": " + t.source + " has " +
                                std::to_string(t.frames()) + " frames");
-    frames.push_back(o.frames > 0 ? std::min<int64_t>(o.frames, available) : available);
-    scenes.push_back(spill_scene_of(t, o.log));
-    recorded.push_back(recorded_measures(scenes.back().get(), t, o.from, frames.back()));
+    c.frames.push_back(o.frames > 0 ? std::min<int64_t>(o.frames, available) : available);
+    c.scenes.push_back(spill_scene_of(t, o.log));
+    c.recorded.push_back(recorded_measures(c.scenes.back().get(), t, o.from, c.frames.back()));
   }
+  return c;
+}
 
-  std::unique_ptr<common::ProgressReporter> progress;
-  if (o.log)
-    progress = std::make_unique<common::ProgressReporter>(
-        *o.log, false, long(models.size() * trajectories.size()), "compare");
-  nlohmann::json rows = nlohmann::json::array();
-  std::vector<std::map<std::string, Figure>> figures;
-  std::vector<gnn::RolloutResult> pictured;  // each model's rollout of the first trajectory
-  long done = 0;
-  for (auto& model : models) {
-    gnn::LearnedSimulator& sim = *model.simulator;
-    const gnn::RuntimeSettings mix =
-        o.blas_threads > 0
-            ? gnn::RuntimeSettings{o.threads, o.blas_threads}
-            : gnn::inference_runtime(o.threads, sim.model().infers_on_one_blas_thread());
-    gnn::configure_runtime(mix);
-    std::vector<TrajectoryScores> scores;
-    for (size_t k = 0; k < trajectories.size(); ++k) {
-      gnn::RolloutResult kept;
-      scores.push_back(score_rollout(sim, trajectories[k], m, scenes[k].get(), recorded[k], o.from,
-                                     frames[k], o.relax, k == 0 ? &kept : nullptr));
-      if (k == 0) pictured.push_back(std::move(kept));
-      if (progress) progress->update(++done, model.name + " " + trajectories[k].source);
-    }
-    // Size of the model on the graph of the first trajectory's starting frame.
-    const gnn::Trajectory& t0 = trajectories.front();
-    const auto ids = gnn::active_ids(t0, o.from);
-    const gnn::GraphInput g =
-        sim.encode({gnn::position_history(t0, o.from, ids, m.frame_dt),
-                    t0.oil_fraction[o.from].index_select(0, ids), t0.material, t0.boundary});
-    const double flops = sim.model().flops(g.nodes(), g.edges());
-    int64_t params = 0;
-    for (const auto& p : sim.model().parameters()) params += p.numel();
-    figures.push_back(figures_of(scores, m.frame_dt));
-    nlohmann::json row = {{"name", model.name},
-                          {"model", sim.model().name()},
-                          {"checkpoint", model.source},
-                          {"params", params},
-                          {"flops_per_particle", flops >= 0 && ids.size(0) > 0
-                                                     ? nlohmann::json(flops / double(ids.size(0)))
-                                                     : nlohmann::json(nullptr)},
-                          {"threads", {{"libtorch", mix.threads}, {"blas", mix.blas_threads}}}};
-    nlohmann::json spreads = nlohmann::json::object();
-    for (const char* key : kFigureOrder) {
-      const Figure& f = figures.back()[key];
-      row[key] = f.values.empty() ? nlohmann::json(nullptr) : nlohmann::json(mean(f.values));
-      spreads[key] = f.values.empty() ? nlohmann::json(nullptr) : nlohmann::json(spread(f.values));
-    }
-    row["spread"] = spreads;
-    // Frame by frame (frame k after from_frame at index k - 1), the mean over the trajectories
-    // that reach it: for figures at a simulated time rather than a frame count.
-    row["by_frame"] = {{"rollout_mse", mean_by_frame(scores, &TrajectoryScores::mse)},
-                       {"oil_iou", mean_by_frame(scores, &TrajectoryScores::iou)}};
-    rows.push_back(row);
+// comparison.json's row of one model: size, FLOPs, threads, and each figure's mean and spread.
+nlohmann::json model_row(const ComparedModel& model, const gnn::RuntimeSettings& mix,
+                         const std::vector<TrajectoryScores>& scores,
+                         const std::map<std::string, Figure>& figures, const CompareOptions& o,
+                         const ComparedTrajectories& c, const gnn::DatasetMetadata& m) {
+  gnn::LearnedSimulator& sim = *model.simulator;
+  // Size of the model on the graph of the first trajectory's starting frame.
+  const gnn::Trajectory& t0 = c.trajectories.front();
+  const auto ids = gnn::active_ids(t0, o.from);
+  const gnn::GraphInput g =
+      sim.encode({gnn::position_history(t0, o.from, ids, m.frame_dt),
+                  t0.oil_fraction[o.from].index_select(0, ids), t0.material, t0.boundary});
+  const double flops = sim.model().flops(g.nodes(), g.edges());
+  int64_t params = 0;
+  for (const auto& p : sim.model().parameters()) params += p.numel();
+  nlohmann::json row = {{"name", model.name},
+                        {"model", sim.model().name()},
+                        {"checkpoint", model.source},
+                        {"params", params},
+                        {"flops_per_particle", flops >= 0 && ids.size(0) > 0
+                                                   ? nlohmann::json(flops / double(ids.size(0)))
+                                                   : nlohmann::json(nullptr)},
+                        {"threads", {{"libtorch", mix.threads}, {"blas", mix.blas_threads}}}};
+  nlohmann::json spreads = nlohmann::json::object();
+  for (const char* key : kFigureOrder) {
+    const auto found = figures.find(key);
+    const bool none = found == figures.end() || found->second.values.empty();
+    row[key] = none ? nlohmann::json(nullptr) : nlohmann::json(mean(found->second.values));
+    spreads[key] = none ? nlohmann::json(nullptr) : nlohmann::json(spread(found->second.values));
   }
-  if (progress) progress->finish("");
+  row["spread"] = spreads;
+  // Frame by frame (frame k after from_frame at index k - 1), the mean over the trajectories
+  // that reach it: for figures at a simulated time rather than a frame count.
+  row["by_frame"] = {{"rollout_mse", mean_by_frame(scores, &TrajectoryScores::mse)},
+                     {"oil_iou", mean_by_frame(scores, &TrajectoryScores::iou)}};
+  return row;
+}
 
-  std::vector<double> sph_rates;
+// comparison.json's "sph": the wall time and compression of the SPH that made the data.
+nlohmann::json sph_reference(const ComparedTrajectories& c, const gnn::DatasetMetadata& m,
+                             std::vector<double>& sph_rates) {
   Figure sph_compression;  // the recorded frames'
-  nlohmann::json sources = nlohmann::json::array();
-  for (size_t k = 0; k < trajectories.size(); ++k) {
-    if (!recorded[k].compression_mean.empty())
-      sph_compression.add(mean(recorded[k].compression_mean));
-    if (trajectories[k].sph_seconds_per_frame > 0)
-      sph_rates.push_back(trajectories[k].sph_seconds_per_frame / m.frame_dt);
-    sources.push_back({{"source", trajectories[k].source}, {"frames", frames[k]}});
+  for (size_t k = 0; k < c.trajectories.size(); ++k) {
+    if (!c.recorded[k].compression_mean.empty())
+      sph_compression.add(mean(c.recorded[k].compression_mean));
+    if (c.trajectories[k].sph_seconds_per_frame > 0)
+      sph_rates.push_back(c.trajectories[k].sph_seconds_per_frame / m.frame_dt);
   }
-  const nlohmann::json sph = {
+  return {
       {"seconds_per_simulated_second",
        sph_rates.empty() ? nlohmann::json(nullptr) : nlohmann::json(mean(sph_rates))},
       {"spread", sph_rates.empty() ? nlohmann::json(nullptr) : nlohmann::json(spread(sph_rates))},
@@ -252,40 +232,35 @@ void run_compare(const CompareOptions& o) {
                                ? nlohmann::json(nullptr)
                                : nlohmann::json(mean(sph_compression.values))},
       {"note", "wall time of the SPH that generated the data, as recorded in metadata.json"}};
-  const nlohmann::json result = {
-      {"data", o.data_dir},
-      {"split", o.split},
-      {"from_frame", o.from},
-      {"frame_dt", m.frame_dt},
-      {"threads", o.threads},
-      {"relax_iterations", o.relax},
-      {"units",
-       "each figure is the mean over the trajectories (its standard deviation under 'spread'); "
-       "one_step_mse and rollout_mse_H: squared position error (m^2) H frames after from_frame "
-       "('all': mean over every rollout frame); mmd: squared maximum mean discrepancy of the "
-       "fluid clouds, mean over frames; kinetic_energy_error: |KE_pred - KE_true| / KE_true, "
-       "mean over frames; oil_iou_H: top-view IoU of the oil cells H frames on; "
-       "slick_area_error: |A_pred - A_true| / A_true, mean over frames; front_distance_error_m: "
-       "|front_pred - front_true|, mean over frames; bank_contact_time_error_s: |t_pred - "
-       "t_true| of each bank's first contact (a bank touched by one side only: the time from "
-       "that contact to the rollout's end), mean over banks. Oil is a particle whose oil "
-       "fraction is at least 1/2; slick, front and banks are spill.json's measures. "
-       "compression_mean / compression_p95: mean and 95th percentile over the particles of "
-       "max(rho/rho0 - 1, 0) of each predicted frame (after the relaxation when "
-       "relax_iterations > 0), mean over frames; sph.compression_mean: the same of the recorded "
-       "frames. by_frame: rollout_mse and oil_iou at every frame after from_frame (index k - 1 "
-       "for frame k), mean over the trajectories that reach it. "
-       "seconds_per_simulated_second: wall time per frame (graph building included) over "
-       "frame_dt; null: not defined for this data (e.g. no river, no bank touched)"},
-      {"models", rows},
-      {"sph", sph},
-      {"trajectories", sources}};
-  const fs::path out = output.staging();
-  common::write_file_atomically((out / "comparison.json").string(), result.dump(2) + "\n");
+}
 
+const char* const kUnits =
+    "each figure is the mean over the trajectories (its standard deviation under 'spread'); "
+    "one_step_mse and rollout_mse_H: squared position error (m^2) H frames after from_frame "
+    "('all': mean over every rollout frame); mmd: squared maximum mean discrepancy of the "
+    "fluid clouds, mean over frames; kinetic_energy_error: |KE_pred - KE_true| / KE_true, "
+    "mean over frames; oil_iou_H: top-view IoU of the oil cells H frames on; "
+    "slick_area_error: |A_pred - A_true| / A_true, mean over frames; front_distance_error_m: "
+    "|front_pred - front_true|, mean over frames; bank_contact_time_error_s: |t_pred - "
+    "t_true| of each bank's first contact (a bank touched by one side only: the time from "
+    "that contact to the rollout's end), mean over banks. Oil is a particle whose oil "
+    "fraction is at least 1/2; slick, front and banks are spill.json's measures. "
+    "compression_mean / compression_p95: mean and 95th percentile over the particles of "
+    "max(rho/rho0 - 1, 0) of each predicted frame (after the relaxation when "
+    "relax_iterations > 0), mean over frames; sph.compression_mean: the same of the recorded "
+    "frames. by_frame: rollout_mse and oil_iou at every frame after from_frame (index k - 1 "
+    "for frame k), mean over the trajectories that reach it. "
+    "seconds_per_simulated_second: wall time per frame (graph building included) over "
+    "frame_dt; null: not defined for this data (e.g. no river, no bank touched)";
+
+std::string comparison_markdown(const CompareOptions& o, const gnn::DatasetMetadata& m,
+                                size_t trajectories, const std::vector<ComparedModel>& models,
+                                const nlohmann::json& rows,
+                                std::vector<std::map<std::string, Figure>>& figures,
+                                const std::vector<double>& sph_rates) {
   std::ostringstream md;
   md << "# Learned simulators compared\n\n"
-     << trajectories.size() << " trajectories of `" << o.data_dir << "` (" << o.split
+     << trajectories << " trajectories of `" << o.data_dir << "` (" << o.split
      << " split), each rolled out from frame " << o.from << " (frames " << m.frame_dt
      << " s apart) on " << o.threads << " threads"
      << (o.relax > 0 ? ", each learned frame relaxed by " + std::to_string(o.relax) +
@@ -315,28 +290,96 @@ void run_compare(const CompareOptions& o) {
   Figure sph_figure{sph_rates};
   md << "| SPH (the data) | - | - | - | - | - | - | - | - | - | - | - | - | - | "
      << cell_text(sph_figure) << " |\n";
-  common::write_file_atomically((out / "comparison.md").string(), md.str());
-  const std::string table6 = teacher_student_table(result);
-  if (!table6.empty()) common::write_file_atomically((out / "teacher_student.md").string(), table6);
+  return md.str();
+}
 
-  // Six moments of the first trajectory: truth, then each model.
-  const gnn::Trajectory& t0 = trajectories.front();
+// Six moments of the first trajectory: truth, then each model.
+void write_comparison_picture(const fs::path& file, const ComparedTrajectories& c,
+                              const gnn::DatasetMetadata& m, int64_t from,
+                              const std::vector<gnn::RolloutResult>& pictured) {
+  const gnn::Trajectory& t0 = c.trajectories.front();
   const MapViewRenderer renderer(t0, m);
   std::vector<int64_t> moments;
-  for (int i = 0; i < 6; ++i) moments.push_back((frames[0] * i + 2) / 5);
-  std::vector<std::vector<common::RgbImage>> grid(1 + models.size());
+  for (int i = 0; i < 6; ++i) moments.push_back((c.frames[0] * i + 2) / 5);
+  std::vector<std::vector<common::RgbImage>> grid(1 + pictured.size());
   for (int64_t k : moments) {
-    const int64_t f = std::min(k, frames[0]);
-    grid[0].push_back(renderer.render(t0.position[o.from + f], t0.active[o.from + f],
-                                      t0.oil_fraction[o.from + f]));
-    for (size_t j = 0; j < models.size(); ++j)
+    const int64_t f = std::min(k, c.frames[0]);
+    grid[0].push_back(
+        renderer.render(t0.position[from + f], t0.active[from + f], t0.oil_fraction[from + f]));
+    for (size_t j = 0; j < pictured.size(); ++j)
       grid[1 + j].push_back(renderer.render(pictured[j].position[f], pictured[j].active[f],
                                             pictured[j].oil_fraction[f]));
   }
-  common::write_png((out / "comparison.png").string(), image_grid(grid));
+  common::write_png(file.string(), image_grid(grid));
+}
+
+}  // namespace
+
+void run_compare(const CompareOptions& o) {
+  if (o.checkpoints.empty() && !o.constant_velocity)
+    throw common::InputError("compare: give --checkpoints, --constant-velocity or both");
+  common::OutputFolderPolicy policy;
+  policy.markers = {"comparison.json", "comparison.md"};  // teacher_student.md: optional
+  policy.replace = true;
+  policy.inputs = {o.data_dir};
+  for (const auto& c : o.checkpoints) policy.inputs.emplace_back(c);
+  policy.log = o.log;
+  common::OutputFolder output(o.out_dir, policy);
+
+  const gnn::DatasetMetadata m =
+      gnn::read_metadata((fs::path(o.data_dir) / "metadata.json").string());
+  std::vector<ComparedModel> models = load_models(o, m);
+  const ComparedTrajectories c = read_compared(o, m);
+
+  std::unique_ptr<common::ProgressReporter> progress;
+  if (o.log)
+    progress = std::make_unique<common::ProgressReporter>(
+        *o.log, false, long(models.size() * c.trajectories.size()), "compare");
+  nlohmann::json rows = nlohmann::json::array();
+  std::vector<std::map<std::string, Figure>> figures;
+  std::vector<gnn::RolloutResult> pictured;  // each model's rollout of the first trajectory
+  long done = 0;
+  for (auto& model : models) {
+    gnn::LearnedSimulator& sim = *model.simulator;
+    const gnn::RuntimeSettings mix =
+        o.blas_threads > 0
+            ? gnn::RuntimeSettings{o.threads, o.blas_threads}
+            : gnn::inference_runtime(o.threads, sim.model().infers_on_one_blas_thread());
+    gnn::configure_runtime(mix);
+    std::vector<TrajectoryScores> scores;
+    for (size_t k = 0; k < c.trajectories.size(); ++k) {
+      gnn::RolloutResult kept;
+      scores.push_back(score_rollout(sim, c.trajectories[k], m, c.scenes[k].get(), c.recorded[k],
+                                     o.from, c.frames[k], o.relax, k == 0 ? &kept : nullptr));
+      if (k == 0) pictured.push_back(std::move(kept));
+      if (progress) progress->update(++done, model.name + " " + c.trajectories[k].source);
+    }
+    figures.push_back(figures_of(scores, m.frame_dt));
+    rows.push_back(model_row(model, mix, scores, figures.back(), o, c, m));
+  }
+  if (progress) progress->finish("");
+
+  std::vector<double> sph_rates;
+  const nlohmann::json sph = sph_reference(c, m, sph_rates);
+  nlohmann::json sources = nlohmann::json::array();
+  for (size_t k = 0; k < c.trajectories.size(); ++k)
+    sources.push_back({{"source", c.trajectories[k].source}, {"frames", c.frames[k]}});
+  const nlohmann::json result = {{"data", o.data_dir},   {"split", o.split},
+                                 {"from_frame", o.from}, {"frame_dt", m.frame_dt},
+                                 {"threads", o.threads}, {"relax_iterations", o.relax},
+                                 {"units", kUnits},      {"models", rows},
+                                 {"sph", sph},           {"trajectories", sources}};
+  const fs::path out = output.staging();
+  common::write_file_atomically((out / "comparison.json").string(), result.dump(2) + "\n");
+  common::write_file_atomically(
+      (out / "comparison.md").string(),
+      comparison_markdown(o, m, c.trajectories.size(), models, rows, figures, sph_rates));
+  const std::string table6 = teacher_student_table(result);
+  if (!table6.empty()) common::write_file_atomically((out / "teacher_student.md").string(), table6);
+  write_comparison_picture(out / "comparison.png", c, m, o.from, pictured);
   output.commit();
   if (o.log)
-    *o.log << models.size() << " models compared on " << trajectories.size()
+    *o.log << models.size() << " models compared on " << c.trajectories.size()
            << " trajectories; written to " << output.target().string() << "\n";
 }
 

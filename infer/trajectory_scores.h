@@ -45,7 +45,7 @@ struct TrajectoryScores {
 // recording, whose measures `recorded` are recorded_measures(scene, t, from, frames); `scene`
 // (may be null) gives the particle volume and the river for the oil measures and the density
 // correction: with `relax_iterations` > 0 every learned frame gets that many iterations of it
-// (gnn/eval/spill_measures.h, sph/solvers/density_relaxation.h). `kept` receives the rollout
+// (gnn/eval/spill_measures.h, sph/simulation/density_relaxation.h). `kept` receives the rollout
 // when given.
 TrajectoryScores score_rollout(gnn::LearnedSimulator& simulator, const gnn::Trajectory& t,
                                const gnn::DatasetMetadata& m, gnn::SpillScene* scene,

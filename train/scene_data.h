@@ -10,7 +10,7 @@
 
 #include <string>
 
-#include "sph/app/dataset_generator.h"
+#include "sph/generation/generation.h"
 #include "train/trainer.h"
 
 namespace train {

@@ -191,6 +191,125 @@ torch::Tensor material_table(const nlohmann::json& materials) {
       .view({3, 2});
 }
 
+namespace {
+
+std::vector<std::string> group_names(hid_t file_id, const std::string& file) {
+  std::vector<std::string> groups;
+  H5Literate(
+      file_id, H5_INDEX_NAME, H5_ITER_INC, nullptr,
+      [](hid_t, const char* name, const H5L_info_t*, void* data) -> herr_t {
+        static_cast<std::vector<std::string>*>(data)->push_back(name);
+        return 0;
+      },
+      &groups);
+  if (groups.empty()) fail(file, "holds no trajectory groups");
+  return groups;
+}
+
+// The oil fraction per frame [T, N]: the mixture's, or each particle's type in a dataset without
+// fractions (single-phase solvers).
+torch::Tensor read_oil_fraction(hid_t group, const std::string& where, const Trajectory& t) {
+  const int64_t T = t.position.size(0), N = t.position.size(1);
+  if (!has_link(group, "volume_fraction"))
+    return (t.particle_type == kOil).to(torch::kFloat32).unsqueeze(0).expand({T, N}).contiguous();
+  auto fraction = read_dataset(group, "volume_fraction", where, H5T_FLOAT, 2, torch::kFloat32);
+  expect_shape(fraction, {T, N}, where + "/volume_fraction");
+  // Values a hair outside [0, 1] are float rounding of the mixture exchange; more is damage.
+  const auto used = fraction.index({t.active});
+  if (used.numel() > 0 &&
+      (!torch::isfinite(used).all().item<bool>() || used.min().item<double>() < -1e-3 ||
+       used.max().item<double>() > 1 + 1e-3))
+    fail(where + "/volume_fraction",
+         "oil fractions of active particles must lie in [0, 1] (found " +
+             std::to_string(used.min().item<double>()) + " .. " +
+             std::to_string(used.max().item<double>()) + ")");
+  return fraction.clamp_(0, 1);
+}
+
+// The simulator stops a run whose particle leaves its domain, so an active particle beyond the
+// bounds (by more than a connectivity radius) is a damaged file, not physics; so is a boundary
+// particle beyond them.
+void check_within_bounds(const Trajectory& t, const std::string& where,
+                         const DatasetMetadata& metadata) {
+  auto active_positions = t.position.index({t.active});
+  if (!torch::isfinite(active_positions).all().item<bool>())
+    fail(where + "/position", "holds NaN or infinite values for active particles");
+  const double margin = metadata.connectivity_radius;
+  for (int k = 0; k < 3; ++k) {
+    const auto axis = active_positions.select(1, k);
+    if (axis.numel() > 0 && (axis.min().item<double>() < metadata.bounds[k][0] - margin ||
+                             axis.max().item<double>() > metadata.bounds[k][1] + margin))
+      fail(where + "/position",
+           "active particles reach " + std::to_string(axis.min().item<double>()) + " .. " +
+               std::to_string(axis.max().item<double>()) + " along axis " + std::to_string(k) +
+               ", beyond the dataset's bounds " + std::to_string(metadata.bounds[k][0]) + " .. " +
+               std::to_string(metadata.bounds[k][1]));
+  }
+  if (!torch::isfinite(t.boundary).all().item<bool>())
+    fail(where + "/boundary_position", "holds NaN or infinite values");
+  for (int k = 0; k < 3 && t.boundary.size(0) > 0; ++k) {
+    const auto axis = t.boundary.select(1, k);
+    if (axis.min().item<double>() < metadata.bounds[k][0] - margin ||
+        axis.max().item<double>() > metadata.bounds[k][1] + margin)
+      fail(where + "/boundary_position", "reaches " + std::to_string(axis.min().item<double>()) +
+                                             " .. " + std::to_string(axis.max().item<double>()) +
+                                             " along axis " + std::to_string(k) +
+                                             ", beyond the dataset's bounds");
+  }
+}
+
+// One trajectory group's datasets, each checked for shape and type; the optional ones (velocity,
+// active, time, volume_fraction, boundary_position) filled in when absent.
+Trajectory read_trajectory_group(hid_t group, const std::string& where,
+                                 const DatasetMetadata& metadata) {
+  for (const char* required : {"position", "particle_type"})
+    if (!has_link(group, required))
+      fail(where, std::string("missing dataset \"") + required + "\"");
+  Trajectory t;
+  t.source = where;
+  t.position = read_dataset(group, "position", where, H5T_FLOAT, 3, torch::kFloat32);
+  const int64_t T = t.position.size(0), N = t.position.size(1);
+  expect_shape(t.position, {T, N, 3}, where + "/position");
+  if (T < 2) fail(where + "/position", "needs at least 2 frames");
+  t.particle_type = read_dataset(group, "particle_type", where, H5T_INTEGER, 1, torch::kInt64);
+  expect_shape(t.particle_type, {N}, where + "/particle_type");
+  if ((t.particle_type < 0).any().item<bool>() || (t.particle_type > 1).any().item<bool>())
+    fail(where + "/particle_type",
+         "fluid codes must be 0 (water) or 1 (oil); boundary particles belong in "
+         "boundary_position");
+  if (has_link(group, "velocity")) {
+    t.velocity = read_dataset(group, "velocity", where, H5T_FLOAT, 3, torch::kFloat32);
+    expect_shape(t.velocity, {T, N, 3}, where + "/velocity");
+  } else {
+    // Backward differences in m/s, the first frame copying the second.
+    auto d = (t.position.slice(0, 1) - t.position.slice(0, 0, T - 1)) / metadata.frame_dt;
+    t.velocity = torch::cat({d.slice(0, 0, 1), d}, 0);
+  }
+  if (has_link(group, "active")) {
+    t.active = read_dataset(group, "active", where, H5T_INTEGER, 2, torch::kUInt8).to(torch::kBool);
+    expect_shape(t.active, {T, N}, where + "/active");
+  } else {
+    t.active = torch::ones({T, N}, torch::kBool);
+  }
+  if (has_link(group, "time")) {
+    t.time = read_dataset(group, "time", where, H5T_FLOAT, 1, torch::kFloat64);
+    expect_shape(t.time, {T}, where + "/time");
+  } else {
+    t.time = torch::arange(T, torch::kFloat64) * metadata.frame_dt;
+  }
+  t.oil_fraction = read_oil_fraction(group, where, t);
+  if (has_link(group, "boundary_position")) {
+    t.boundary = read_dataset(group, "boundary_position", where, H5T_FLOAT, 2, torch::kFloat32);
+    if (t.boundary.size(1) != 3) fail(where + "/boundary_position", "expected shape [M, 3]");
+  } else {
+    t.boundary = torch::zeros({0, 3});
+  }
+  check_within_bounds(t, where, metadata);
+  return t;
+}
+
+}  // namespace
+
 std::vector<Trajectory> read_split(const std::string& dir, const std::string& split,
                                    const DatasetMetadata& metadata) {
   const std::string file = (fs::path(dir) / (split + ".h5")).string();
@@ -199,15 +318,7 @@ std::vector<Trajectory> read_split(const std::string& dir, const std::string& sp
 
   Handle h5{H5Fopen(file.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose};
   if (h5.id < 0) fail(file, "cannot open as HDF5 (not an HDF5 file, or damaged)");
-  std::vector<std::string> groups;
-  H5Literate(
-      h5.id, H5_INDEX_NAME, H5_ITER_INC, nullptr,
-      [](hid_t, const char* name, const H5L_info_t*, void* data) -> herr_t {
-        static_cast<std::vector<std::string>*>(data)->push_back(name);
-        return 0;
-      },
-      &groups);
-  if (groups.empty()) fail(file, "holds no trajectory groups");
+  const std::vector<std::string> groups = group_names(h5.id, file);
 
   // Trajectory entries of this split in metadata.json, in group order, for materials and timing.
   std::vector<int64_t> metadata_index;
@@ -221,96 +332,7 @@ std::vector<Trajectory> read_split(const std::string& dir, const std::string& sp
     const std::string where = file + ":/" + groups[g];
     Handle group{H5Gopen2(h5.id, groups[g].c_str(), H5P_DEFAULT), H5Gclose};
     if (group.id < 0) fail(where, "is not a group");
-    for (const char* required : {"position", "particle_type"})
-      if (!has_link(group.id, required))
-        fail(where, std::string("missing dataset \"") + required + "\"");
-    Trajectory t;
-    t.source = where;
-    t.position = read_dataset(group.id, "position", where, H5T_FLOAT, 3, torch::kFloat32);
-    const int64_t T = t.position.size(0), N = t.position.size(1);
-    expect_shape(t.position, {T, N, 3}, where + "/position");
-    if (T < 2) fail(where + "/position", "needs at least 2 frames");
-    t.particle_type = read_dataset(group.id, "particle_type", where, H5T_INTEGER, 1, torch::kInt64);
-    expect_shape(t.particle_type, {N}, where + "/particle_type");
-    if ((t.particle_type < 0).any().item<bool>() || (t.particle_type > 1).any().item<bool>())
-      fail(where + "/particle_type",
-           "fluid codes must be 0 (water) or 1 (oil); boundary particles belong in "
-           "boundary_position");
-    if (has_link(group.id, "velocity")) {
-      t.velocity = read_dataset(group.id, "velocity", where, H5T_FLOAT, 3, torch::kFloat32);
-      expect_shape(t.velocity, {T, N, 3}, where + "/velocity");
-    } else {
-      // Backward differences in m/s, the first frame copying the second.
-      auto d = (t.position.slice(0, 1) - t.position.slice(0, 0, T - 1)) / metadata.frame_dt;
-      t.velocity = torch::cat({d.slice(0, 0, 1), d}, 0);
-    }
-    if (has_link(group.id, "active")) {
-      t.active =
-          read_dataset(group.id, "active", where, H5T_INTEGER, 2, torch::kUInt8).to(torch::kBool);
-      expect_shape(t.active, {T, N}, where + "/active");
-    } else {
-      t.active = torch::ones({T, N}, torch::kBool);
-    }
-    if (has_link(group.id, "time")) {
-      t.time = read_dataset(group.id, "time", where, H5T_FLOAT, 1, torch::kFloat64);
-      expect_shape(t.time, {T}, where + "/time");
-    } else {
-      t.time = torch::arange(T, torch::kFloat64) * metadata.frame_dt;
-    }
-    if (has_link(group.id, "volume_fraction")) {
-      t.oil_fraction =
-          read_dataset(group.id, "volume_fraction", where, H5T_FLOAT, 2, torch::kFloat32);
-      expect_shape(t.oil_fraction, {T, N}, where + "/volume_fraction");
-      // Values a hair outside [0, 1] are float rounding of the mixture exchange; more is damage.
-      const auto used = t.oil_fraction.index({t.active});
-      if (used.numel() > 0 &&
-          (!torch::isfinite(used).all().item<bool>() || used.min().item<double>() < -1e-3 ||
-           used.max().item<double>() > 1 + 1e-3))
-        fail(where + "/volume_fraction",
-             "oil fractions of active particles must lie in [0, 1] (found " +
-                 std::to_string(used.min().item<double>()) + " .. " +
-                 std::to_string(used.max().item<double>()) + ")");
-      t.oil_fraction.clamp_(0, 1);
-    } else {
-      // A dataset without mixture fractions (single-phase solvers): each particle is its type.
-      t.oil_fraction = (t.particle_type == kOil).to(torch::kFloat32).unsqueeze(0).expand({T, N});
-      t.oil_fraction = t.oil_fraction.contiguous();
-    }
-    if (has_link(group.id, "boundary_position")) {
-      t.boundary =
-          read_dataset(group.id, "boundary_position", where, H5T_FLOAT, 2, torch::kFloat32);
-      if (t.boundary.size(1) != 3) fail(where + "/boundary_position", "expected shape [M, 3]");
-    } else {
-      t.boundary = torch::zeros({0, 3});
-    }
-    auto active_positions = t.position.index({t.active});
-    if (!torch::isfinite(active_positions).all().item<bool>())
-      fail(where + "/position", "holds NaN or infinite values for active particles");
-    // The simulator stops a run whose particle leaves its domain, so an active particle beyond
-    // the bounds (by more than a connectivity radius) is a damaged file, not physics.
-    for (int k = 0; k < 3; ++k) {
-      const double margin = metadata.connectivity_radius;
-      const auto axis = active_positions.select(1, k);
-      if (axis.numel() > 0 && (axis.min().item<double>() < metadata.bounds[k][0] - margin ||
-                               axis.max().item<double>() > metadata.bounds[k][1] + margin))
-        fail(where + "/position",
-             "active particles reach " + std::to_string(axis.min().item<double>()) + " .. " +
-                 std::to_string(axis.max().item<double>()) + " along axis " + std::to_string(k) +
-                 ", beyond the dataset's bounds " + std::to_string(metadata.bounds[k][0]) + " .. " +
-                 std::to_string(metadata.bounds[k][1]));
-    }
-    if (!torch::isfinite(t.boundary).all().item<bool>())
-      fail(where + "/boundary_position", "holds NaN or infinite values");
-    for (int k = 0; k < 3 && t.boundary.size(0) > 0; ++k) {
-      const auto axis = t.boundary.select(1, k);
-      const double margin = metadata.connectivity_radius;
-      if (axis.min().item<double>() < metadata.bounds[k][0] - margin ||
-          axis.max().item<double>() > metadata.bounds[k][1] + margin)
-        fail(where + "/boundary_position", "reaches " + std::to_string(axis.min().item<double>()) +
-                                               " .. " + std::to_string(axis.max().item<double>()) +
-                                               " along axis " + std::to_string(k) +
-                                               ", beyond the dataset's bounds");
-    }
+    Trajectory t = read_trajectory_group(group.id, where, metadata);
     const int64_t entry = g < metadata_index.size() ? metadata_index[g] : -1;
     t.scene = entry >= 0                       ? trajectory_scene(metadata.raw, entry)
               : metadata.raw.contains("scene") ? metadata.raw["scene"]

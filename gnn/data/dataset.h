@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "common/exit_codes.h"
+#include "sph/core/types.h"
 
 namespace sph {
 struct RecordedTrajectory;
@@ -29,8 +30,8 @@ class DatasetError : public common::InputError {
 enum NodeType : int64_t { kWater = 0, kOil = 1, kBoundary = 2 };
 constexpr int64_t kNodeTypes = 3;
 
-// A particle is oil when its oil volume fraction is at least this (the rule of spill.json).
-constexpr double kOilFractionThreshold = 0.5;
+// A particle is oil when its oil volume fraction is at least this: the simulator's one oil rule.
+using sph::kOilFractionThreshold;
 
 // Node types (water or oil) [n] int64 of fluid particles from their oil fractions [n].
 inline torch::Tensor phase_from_fraction(const torch::Tensor& oil_fraction) {

@@ -9,6 +9,7 @@
 
 #include "common/checked_file.h"
 #include "common/output_folder.h"
+#include "sph/generation/dataset_folder.h"
 #include "sph/io/tensor_recorder.h"
 
 namespace gnn {
@@ -16,15 +17,50 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// The in-process sink: the recorder's tensors. Built before the simulation runs, as the
-// generator's file is: particle types are a particle's phase when it was made.
+// The in-process sink: the recorder's tensors, kept in memory. With --save-data it also opens
+// the folder they are saved to, once the request is checked and before anything is simulated.
 class RecorderSink : public sph::TrajectorySink {
  public:
-  void begin(const sph::Simulation& sim) override { recorder_.emplace(sim, 1); }
+  RecorderSink(const sph::GenerateOptions& options, std::string save_dir)
+      : options_(options), save_dir_(std::move(save_dir)) {}
+
+  void start(const sph::GenerateOptions&, const std::vector<sph::TrajectoryPlan>&) override {
+    if (save_dir_.empty()) return;
+    // Never replaced: a dataset folder may hold what took hours to simulate.
+    if (fs::exists(common::normalise_output_path(save_dir_)))
+      throw common::OutputPathError("--save-data " + save_dir_ +
+                                    ": already exists; name a new folder");
+    common::OutputFolderPolicy policy;
+    policy.option = "--save-data";
+    policy.markers = {"metadata.json", "train.h5", "valid.h5", "test.h5"};
+    policy.inputs = {options_.scene_file};
+    policy.log = options_.log;
+    saved.emplace(save_dir_, policy);
+  }
+  std::string interrupted_note(const sph::TrajectoryPlan&) const override {
+    return "nothing was saved or trained (the data are simulated first)";
+  }
+  // Built before the simulation runs, as the generator's file is: particle types are a
+  // particle's phase when it was made.
+  void begin(const sph::Simulation& sim, const sph::TrajectoryPlan&) override {
+    recorder_.emplace(sim, 1);
+  }
   void record(const sph::Simulation& sim) override { recorder_->record(sim); }
-  sph::RecordedTrajectory take() { return recorder_->take(); }
+  void end(const sph::TrajectoryPlan&, const nlohmann::json&) override {
+    recorded.push_back(recorder_->take());
+    recorder_.reset();
+  }
+  void finish(const std::vector<sph::TrajectoryPlan>& p, const nlohmann::json&) override {
+    plan = p;
+  }
+
+  std::vector<sph::TrajectoryPlan> plan;
+  std::vector<sph::RecordedTrajectory> recorded;  // in index order
+  std::optional<common::OutputFolder> saved;
 
  private:
+  const sph::GenerateOptions& options_;
+  std::string save_dir_;
   std::optional<sph::TensorRecorder> recorder_;
 };
 
@@ -79,33 +115,11 @@ void write_dataset(const fs::path& folder, const std::vector<sph::TrajectoryPlan
 
 SimulatedDataset simulate_dataset(const sph::GenerateOptions& options,
                                   const std::string& save_dir) {
-  const std::vector<sph::TrajectoryPlan> plan = sph::plan_trajectories(options);
-  std::optional<common::OutputFolder> saved;
-  if (!save_dir.empty()) {
-    // Never replaced: a dataset folder may hold what took hours to simulate.
-    if (fs::exists(common::normalise_output_path(save_dir)))
-      throw common::OutputPathError("--save-data " + save_dir +
-                                    ": already exists; name a new folder");
-    common::OutputFolderPolicy policy;
-    policy.option = "--save-data";
-    policy.markers = {"metadata.json", "train.h5", "valid.h5", "test.h5"};
-    policy.inputs = {options.scene_file};
-    policy.log = options.log;
-    saved.emplace(save_dir, policy);
-  }
-
-  std::vector<sph::RecordedTrajectory> recorded;
-  std::vector<nlohmann::json> described;
-  for (const auto& p : plan) {
-    RecorderSink sink;
-    described.push_back(sph::simulate_trajectory(
-        options, p, sink, "nothing was saved or trained (the data are simulated first)"));
-    recorded.push_back(sink.take());
-    if (options.log)
-      *options.log << "trajectories: " << p.index + 1 << "/" << options.trajectories
-                   << " simulated\n";
-  }
-  const nlohmann::json metadata = sph::dataset_metadata(options, described);
+  RecorderSink sink(options, save_dir);
+  const nlohmann::json metadata = sph::generate(options, sink);
+  const std::vector<sph::TrajectoryPlan>& plan = sink.plan;
+  const std::vector<sph::RecordedTrajectory>& recorded = sink.recorded;
+  std::optional<common::OutputFolder>& saved = sink.saved;
 
   SimulatedDataset out;
   std::string where = options.scene_file + " (simulated in-process)";

@@ -1,6 +1,6 @@
 #pragma once
 // Training data simulated in the training process (`spill-train --scene`): the trajectories that
-// `spill-sim generate` writes for the same request (sph/app/dataset_generator.h: the same draws
+// `spill-sim generate` writes for the same request (sph/generation/generation.h: the same draws
 // from the seed, splits, warm-up rule, normalisation statistics and metadata), recorded into
 // tensors by the tensor recorder and handed over without an HDF5 round trip. Optionally also
 // saved as a dataset folder that `--data` and spill-infer read like a generated one.
@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "gnn/data/dataset.h"
-#include "sph/app/dataset_generator.h"
+#include "sph/generation/generation.h"
 
 namespace gnn {
 

@@ -1,7 +1,7 @@
 #include "gnn/eval/spill_measures.h"
 
-#include "sph/app/scene_runner.h"
-#include "sph/core/simulation.h"
+#include "sph/simulation/simulation.h"
+#include "sph/simulation/spill_measurement.h"
 
 namespace gnn {
 

@@ -10,9 +10,9 @@
 
 #include "gnn/data/dataset.h"
 #include "sph/core/particle_set.h"
-#include "sph/core/scene.h"
 #include "sph/river/spill_metrics.h"
-#include "sph/solvers/density_relaxation.h"
+#include "sph/scene/scene.h"
+#include "sph/simulation/density_relaxation.h"
 
 namespace gnn {
 

@@ -2,7 +2,7 @@
 
 #include <vector>
 
-#include "sph/neighbours/neighbour_grid.h"
+#include "sph/core/neighbour_grid.h"
 
 namespace gnn {
 namespace {

@@ -27,10 +27,6 @@ namespace fs = std::filesystem;
 
 namespace {
 
-nlohmann::json vec_json(const Vec3& v) {
-  return {double(v[0]), double(v[1]), double(v[2])};
-}
-
 void write_json(const fs::path& file, const nlohmann::json& j) {
   common::write_file_atomically(file, j.dump(2) + "\n");
 }
@@ -76,20 +72,6 @@ nlohmann::json run_summary(const Simulation& sim, double wall_s, double iteratio
   return summary;
 }
 
-std::unique_ptr<SpillMetrics> river_spill_metrics(const SceneConfig& scene) {
-  if (scene.leaks.empty() || !scene.terrain_grid) return nullptr;
-  Real leak_x = scene.leaks[0].x;
-  for (const auto& leak : scene.leaks) leak_x = std::min(leak_x, leak.x);
-  return std::make_unique<SpillMetrics>(*scene.terrain_grid, scene.terrain->water_level, leak_x,
-                                        scene.particle_diameter(), scene.watch_points);
-}
-
-void measure_spill(SpillMetrics& spill, const Simulation& sim) {
-  double released = 0;
-  for (const auto& e : sim.emitters()) released += e.oil_released();
-  spill.measure(sim.fluid(), sim.time(), released);
-}
-
 namespace {
 
 PlyPoints fluid_points(const Simulation& sim) {
@@ -125,7 +107,7 @@ void write_pictures(const Simulation& sim, const common::FrameRenderer& renderer
   const std::vector<common::Point> fluid = picture_points(f.position, f.active_count());
   std::vector<std::uint8_t> types;
   // Oil is where the oil fraction is at least 1/2 (MTDF-SPH moves oil between particles).
-  for (Index i = 0; i < f.active_count(); ++i) types.push_back(f.oil_fraction[i] >= Real(0.5));
+  for (Index i = 0; i < f.active_count(); ++i) types.push_back(is_oil(f.oil_fraction[i]));
   write_png((dir / frame_file("side", frame, "png")).string(),
             renderer.render(fluid, types, ViewAxis::kSide));
   write_png((dir / frame_file("top", frame, "png")).string(),
@@ -156,34 +138,113 @@ nlohmann::json machine_description(int threads) {
           {"real", sizeof(Real) == 4 ? "float32" : "float64"}};
 }
 
-nlohmann::json run_metadata(const Simulation& sim, const LoadedScene& scene, int frames) {
-  const SceneConfig& s = scene.config;
-  const Aabb& d = sim.domain();
-  const double stride =
-      std::max(1.0, std::round(shortest_decimal(s.output.frame_dt) / double(s.time_step.dt_max)));
-  return {{"dim", 3},
-          {"frame_dt", shortest_decimal(s.output.frame_dt)},
-          {"dt", shortest_decimal(s.output.frame_dt)},
-          {"frame_stride", long(stride)},
-          {"frame_stride_note",
-           "solver steps per frame at dt_max; the adaptive step may take more, see stats.json"},
-          {"sequence_length", frames + 1},
-          {"bounds",
-           {{shortest_decimal(d.min[0]), shortest_decimal(d.max[0])},
-            {shortest_decimal(d.min[1]), shortest_decimal(d.max[1])},
-            {shortest_decimal(d.min[2]), shortest_decimal(d.max[2])}}},
-          {"particle_radius", shortest_decimal(s.particle_radius)},
-          {"support_radius", shortest_decimal(s.support_radius())},
-          {"default_connectivity_radius", shortest_decimal(s.support_radius())},
-          {"gravity", vec_json(s.gravity)},
-          {"solver", s.solver},
-          {"kernel", s.kernel},
-          {"fluid_particles", sim.fluid().size()},
-          {"boundary_particles", sim.boundary().size()},
-          {"particle_types", {{"water", 0}, {"oil", 1}, {"boundary", 2}}},
-          {"scene_file", scene.file},
-          {"scene", scene.resolved}};
+namespace {
+
+// The frame a run records first: 0, or the frame a continued run's state was saved at.
+int first_recorded_frame(const Simulation& sim, const LoadedScene& scene, const RunOptions& o) {
+  const int frames = frame_count(scene.config);
+  const int first = int(std::llround(sim.time() / shortest_decimal(scene.config.output.frame_dt)));
+  if (first >= frames)
+    throw SimulationError(o.initial_state + ": the state is at t = " + std::to_string(sim.time()) +
+                          " s, the scene ends at " + std::to_string(scene.config.end_time) + " s");
+  return first;
 }
+
+// The frame --save-state-at names (-1 without it), which must lie on the frame grid of the run.
+int state_frame(const LoadedScene& scene, const RunOptions& o, int first) {
+  if (o.save_state_at < 0) return -1;
+  const int frames = frame_count(scene.config);
+  const double frame_dt = shortest_decimal(scene.config.output.frame_dt);
+  const int frame = int(std::llround(o.save_state_at / frame_dt));
+  if (std::abs(double(frame) * frame_dt - o.save_state_at) > 1e-9 * frames || frame < first ||
+      frame > frames)
+    throw SimulationError(
+        "--save-state-at " + std::to_string(o.save_state_at) + ": expected a frame time between " +
+        std::to_string(double(first) * frame_dt) + " and " + std::to_string(scene.config.end_time) +
+        " s (frames every " + std::to_string(frame_dt) + " s)");
+  return frame;
+}
+
+// The per-frame outputs of a run in its staging folder: the trajectory, PLY files, pictures, and
+// the spill metrics of a river leak or the slick's shape of oil on still water.
+class RunRecorder {
+ public:
+  RunRecorder(const Simulation& sim, const LoadedScene& scene, const RunOptions& options,
+              const fs::path& staging)
+      : scene_(scene.config),
+        options_(options),
+        staging_(staging),
+        writer_((staging / "trajectory.h5").string(), "00000", particle_types(sim),
+                sim.boundary().position),
+        spill_(river_spill_metrics(scene.config)) {
+    if (options.png)
+      renderer_ = std::make_unique<common::FrameRenderer>(
+          picture_points(sim.boundary().position, Index(sim.boundary().size())),
+          common::Bounds{sim.domain().min.cast<float>(), sim.domain().max.cast<float>()},
+          float(scene_.particle_radius));
+    bool has_oil = false;
+    for (const auto& b : scene_.fluid_blocks) has_oil = has_oil || b.oil_fraction() > 0;
+    for (const auto& e : scene_.emitters) has_oil = has_oil || e.material == "oil";
+    if (!spill_ && has_oil)
+      slick_ = std::make_unique<StillWaterSlickMetrics>(
+          scene_.particle_diameter(),
+          1 - double(scene_.materials.oil.density / scene_.materials.water.density),
+          double(scene_.gravity.norm()));
+    if (options.ply) {
+      PlyPoints b;
+      b.position = sim.boundary().position;
+      b.type.assign(b.position.size(), std::int32_t(ParticleType::kBoundary));
+      write_ply((staging / "ply" / "boundary.ply").string(), b);
+    }
+  }
+
+  void record(const Simulation& sim, int frame) {
+    if (spill_) measure_spill(*spill_, sim);
+    if (slick_) slick_->measure(sim.fluid(), sim.time());
+    std::vector<std::uint8_t> active(sim.fluid().size(), 0);
+    for (Index i = 0; i < sim.fluid().active_count(); ++i) active[sim.fluid().id[i]] = 1;
+    const FluidParticles& f = sim.fluid();
+    writer_.append(sim.time(), sim.in_id_order(f.position), sim.in_id_order(f.velocity), active,
+                   sim.in_id_order(f.oil_fraction));
+    if (options_.ply)
+      write_ply((staging_ / "ply" / frame_file("fluid", frame, "ply")).string(), fluid_points(sim));
+    if (renderer_) write_pictures(sim, *renderer_, staging_ / "png", frame);
+  }
+
+  void close_trajectory() { writer_.close(); }
+
+  // spill.json and spill.svg, for a scene with either kind of metrics.
+  void write_metrics() const {
+    if (spill_) {
+      write_json(staging_ / "spill.json", spill_->to_json());
+      write_spill_plot((staging_ / "spill.svg").string(), spill_->frames(),
+                       scene_.name + ": spill metrics");
+    }
+    if (slick_) {
+      write_json(staging_ / "spill.json", slick_->to_json());
+      write_slick_plot((staging_ / "spill.svg").string(), slick_->frames(),
+                       scene_.name + ": slick on still water");
+    }
+  }
+
+ private:
+  static std::vector<std::int32_t> particle_types(const Simulation& sim) {
+    std::vector<std::int32_t> types(sim.fluid().size());
+    for (Index i = 0; i < sim.fluid().size(); ++i)
+      types[sim.fluid().id[i]] = std::int32_t(sim.fluid().type[i]);
+    return types;
+  }
+
+  const SceneConfig& scene_;
+  const RunOptions& options_;
+  fs::path staging_;
+  TrajectoryWriter writer_;
+  std::unique_ptr<common::FrameRenderer> renderer_;
+  std::unique_ptr<SpillMetrics> spill_;
+  std::unique_ptr<StillWaterSlickMetrics> slick_;
+};
+
+}  // namespace
 
 nlohmann::json run_scene(const LoadedScene& scene, const RunOptions& options) {
   common::OutputFolderPolicy policy;
@@ -202,69 +263,14 @@ nlohmann::json run_scene(const LoadedScene& scene, const RunOptions& options) {
   const double frame_dt = shortest_decimal(scene.config.output.frame_dt);
   if (!options.initial_state.empty()) sim.load_state(options.initial_state);
   // A continued run records from the frame its state was saved at.
-  const int first = int(std::llround(sim.time() / frame_dt));
-  if (first >= frames)
-    throw SimulationError(options.initial_state +
-                          ": the state is at t = " + std::to_string(sim.time()) +
-                          " s, the scene ends at " + std::to_string(scene.config.end_time) + " s");
-  int save_frame = -1;
-  if (options.save_state_at >= 0) {
-    save_frame = int(std::llround(options.save_state_at / frame_dt));
-    if (std::abs(double(save_frame) * frame_dt - options.save_state_at) > 1e-9 * frames ||
-        save_frame < first || save_frame > frames)
-      throw SimulationError("--save-state-at " + std::to_string(options.save_state_at) +
-                            ": expected a frame time between " +
-                            std::to_string(double(first) * frame_dt) + " and " +
-                            std::to_string(scene.config.end_time) + " s (frames every " +
-                            std::to_string(frame_dt) + " s)");
-  }
+  const int first = first_recorded_frame(sim, scene, options);
+  const int save_frame = state_frame(scene, options, first);
   write_json(staging / "metadata.json", run_metadata(sim, scene, frames - first));
-
-  std::vector<std::int32_t> types(sim.fluid().size());
-  for (Index i = 0; i < sim.fluid().size(); ++i)
-    types[sim.fluid().id[i]] = std::int32_t(sim.fluid().type[i]);
-  TrajectoryWriter writer((staging / "trajectory.h5").string(), "00000", types,
-                          sim.boundary().position);
-  std::unique_ptr<common::FrameRenderer> renderer;
-  if (options.png)
-    renderer = std::make_unique<common::FrameRenderer>(
-        picture_points(sim.boundary().position, Index(sim.boundary().size())),
-        common::Bounds{sim.domain().min.cast<float>(), sim.domain().max.cast<float>()},
-        float(scene.config.particle_radius));
-  // Spill metrics for scenes with a leak over terrain.
-  const std::unique_ptr<SpillMetrics> spill = river_spill_metrics(scene.config);
-  // The slick's shape for oil on still water (a tank, no river leak).
-  std::unique_ptr<StillWaterSlickMetrics> slick;
-  bool has_oil = false;
-  for (const auto& b : scene.config.fluid_blocks) has_oil = has_oil || b.oil_fraction() > 0;
-  for (const auto& e : scene.config.emitters) has_oil = has_oil || e.material == "oil";
-  if (!spill && has_oil)
-    slick = std::make_unique<StillWaterSlickMetrics>(
-        scene.config.particle_diameter(),
-        1 - double(scene.config.materials.oil.density / scene.config.materials.water.density),
-        double(scene.config.gravity.norm()));
-  auto record = [&](int frame) {
-    if (spill) measure_spill(*spill, sim);
-    if (slick) slick->measure(sim.fluid(), sim.time());
-    std::vector<std::uint8_t> active(sim.fluid().size(), 0);
-    for (Index i = 0; i < sim.fluid().active_count(); ++i) active[sim.fluid().id[i]] = 1;
-    const FluidParticles& f = sim.fluid();
-    writer.append(sim.time(), sim.in_id_order(f.position), sim.in_id_order(f.velocity), active,
-                  sim.in_id_order(f.oil_fraction));
-    if (options.ply)
-      write_ply((staging / "ply" / frame_file("fluid", frame, "ply")).string(), fluid_points(sim));
-    if (renderer) write_pictures(sim, *renderer, staging / "png", frame);
-  };
-  if (options.ply) {
-    PlyPoints b;
-    b.position = sim.boundary().position;
-    b.type.assign(b.position.size(), std::int32_t(ParticleType::kBoundary));
-    write_ply((staging / "ply" / "boundary.ply").string(), b);
-  }
+  RunRecorder recorder(sim, scene, options, staging);
 
   nlohmann::json frame_list = nlohmann::json::array();
   frame_list.push_back(frame_json(sim, FrameStats{}));
-  record(first);
+  recorder.record(sim, first);
   if (save_frame == first) sim.save_state((staging / "state.h5").string());
   common::ProgressReporter progress(options.log ? *options.log : std::cerr, options.terminal,
                                     frames, "simulating " + scene.config.name);
@@ -277,26 +283,17 @@ nlohmann::json run_scene(const LoadedScene& scene, const RunOptions& options) {
   loop.progress = options.log ? &progress : nullptr;
   const FrameLoopTotals totals = run_frames(sim, loop, [&](int frame, const FrameStats& f, double) {
     frame_list.push_back(frame_json(sim, f));
-    record(frame);
+    recorder.record(sim, frame);
     if (frame == save_frame) sim.save_state((staging / "state.h5").string());
   });
-  writer.close();
+  recorder.close_trajectory();
   nlohmann::json summary = run_summary(sim, totals.wall_s, totals.iterations_density,
                                        totals.iterations_divergence, options.threads);
   write_json(staging / "stats.json", {{"frames", frame_list}, {"summary", summary}});
   if (options.png)
     encode_animation(staging, scene.config.terrain_grid ? "river" : "side", first, 1 / frame_dt,
                      options.log);
-  if (spill) {
-    write_json(staging / "spill.json", spill->to_json());
-    write_spill_plot((staging / "spill.svg").string(), spill->frames(),
-                     scene.config.name + ": spill metrics");
-  }
-  if (slick) {
-    write_json(staging / "spill.json", slick->to_json());
-    write_slick_plot((staging / "spill.svg").string(), slick->frames(),
-                     scene.config.name + ": slick on still water");
-  }
+  recorder.write_metrics();
   if (options.log) progress.finish(std::to_string(sim.steps()) + " steps");
 
   output.commit();

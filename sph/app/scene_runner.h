@@ -10,11 +10,13 @@
 #include <nlohmann/json.hpp>
 #include <ostream>
 
-#include "sph/app/frame_loop.h"
-#include "sph/core/scene.h"
-#include "sph/core/simulation.h"
 #include "sph/core/simulation_error.h"
+#include "sph/io/run_metadata.h"
 #include "sph/river/spill_metrics.h"
+#include "sph/scene/scene_loader.h"
+#include "sph/simulation/frame_loop.h"
+#include "sph/simulation/simulation.h"
+#include "sph/simulation/spill_measurement.h"
 
 namespace sph {
 
@@ -42,15 +44,6 @@ nlohmann::json benchmark_scene(const LoadedScene& scene, int threads, std::ostre
 // step, thread count and the time split.
 nlohmann::json run_summary(const Simulation& sim, double wall_s, double iterations_density,
                            double iterations_divergence, int threads);
-
-// The spill metrics of a scene with a leak over terrain, measured from the most upstream leak;
-// nullptr for other scenes.
-std::unique_ptr<SpillMetrics> river_spill_metrics(const SceneConfig& scene);
-// Measures the simulation's current frame (its oil released so far from its emitters).
-void measure_spill(SpillMetrics& spill, const Simulation& sim);
-
-// metadata.json content of a run (data-contract keys; see README).
-nlohmann::json run_metadata(const Simulation& sim, const LoadedScene& scene, int frames);
 
 // Where the machine and build are described in benchmark output.
 nlohmann::json machine_description(int threads);

@@ -5,7 +5,7 @@
 
 #include "sph/app/scene_runner.h"
 #include "sph/core/config.h"
-#include "sph/core/scene.h"
+#include "sph/scene/scene_loader.h"
 
 namespace sph {
 

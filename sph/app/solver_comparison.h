@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "sph/core/scene.h"
+#include "sph/scene/scene_loader.h"
 
 namespace sph {
 

@@ -14,12 +14,12 @@
 #include "common/picture_grid.h"
 #include "common/progress.h"
 #include "common/stopwatch.h"
-#include "sph/app/frame_loop.h"
+#include "sph/simulation/frame_loop.h"
 #include "sph/app/scene_runner.h"
 #include "sph/app/solver_comparison.h"
 #include "sph/core/config.h"
-#include "sph/core/simulation.h"
 #include "sph/core/simulation_error.h"
+#include "sph/simulation/simulation.h"
 
 namespace sph {
 
@@ -68,7 +68,7 @@ common::RgbImage render_view(const Simulation& sim, const common::FrameRenderer&
   std::vector<std::uint8_t> oil(f.active_count());
   for (Index i = 0; i < f.active_count(); ++i) {
     points[i] = f.position[i].cast<float>();
-    oil[i] = f.oil_fraction[i] >= Real(0.5);
+    oil[i] = is_oil(f.oil_fraction[i]);
   }
   return renderer.render(points, oil, axis);
 }
@@ -212,8 +212,10 @@ std::string optional_seconds(const nlohmann::json& v) {
 
 }  // namespace
 
-std::string solver_table_markdown(const nlohmann::json& table) {
-  std::ostringstream md;
+namespace {
+
+// The scene, its moments and the machine, above the table.
+void markdown_header(std::ostream& md, const nlohmann::json& table) {
   const nlohmann::json& machine = table.at("machine");
   md << "# Solver comparison: " << table.at("scene").get<std::string>() << "\n\n";
   md << "- scene: `" << table.at("scene_file").get<std::string>() << "`";
@@ -230,9 +232,9 @@ std::string solver_table_markdown(const nlohmann::json& table) {
      << machine.at("hardware_threads").get<long>() << " hardware threads, "
      << machine.at("build_type").get<std::string>() << " build, "
      << machine.at("real").get<std::string>() << "\n\n";
+}
 
-  bool spill = false;
-  for (const auto& row : table.at("rows")) spill = spill || row.contains("spill");
+void markdown_column_heads(std::ostream& md, const nlohmann::json& table, bool spill) {
   md << "| solver | status";
   for (const auto& t : table.at("times_s"))
     md << " | wall s to " << format("%g", t.get<double>()) << " s";
@@ -244,34 +246,39 @@ std::string solver_table_markdown(const nlohmann::json& table) {
   md << " |\n|---|---";
   for (size_t k = 0; k < table.at("times_s").size(); ++k) md << "|---:";
   md << "|---:|---:|---:|---:|---:" << (spill ? "|---:|---:|---:|---:" : "") << "|\n";
-  for (const auto& row : table.at("rows")) {
-    const bool ok = row.at("status") == "ok";
-    md << "| " << row.at("solver").get<std::string>() << " | "
-       << (ok ? std::string("ok") : failure_text(row.at("failure")));
-    for (const auto& w : row.at("wall_s")) md << " | " << seconds_cell(w);
-    if (ok) {
-      md << " | " << rate_cell(row.at("particle_steps_per_s").get<double>()) << " | "
-         << iterations_cell(row.at("iterations_density").get<double>()) << " | "
-         << iterations_cell(row.at("iterations_divergence").get<double>()) << " | "
-         << format("%.3g", row.at("density_error_percent").get<double>()) << " | "
-         << row.at("fluid_particles").get<long>();
-    } else {
-      md << " | – | – | – | – | –";
-    }
-    if (spill) {
-      if (row.contains("spill")) {
-        const nlohmann::json& s = row.at("spill");
-        md << " | " << format("%.3f", s.at("peak_slick_area_m2").get<double>()) << " ("
-           << format("%g", s.at("peak_slick_area_t_s").get<double>()) << ") | "
-           << format("%.2f", s.at("furthest_front_m").get<double>()) << " | "
-           << optional_seconds(s.at("first_left_bank_contact_s")) << " | "
-           << optional_seconds(s.at("first_right_bank_contact_s"));
-      } else {
-        md << " | – | – | – | –";
-      }
-    }
-    md << " |\n";
+}
+
+void markdown_row(std::ostream& md, const nlohmann::json& row, bool spill) {
+  const bool ok = row.at("status") == "ok";
+  md << "| " << row.at("solver").get<std::string>() << " | "
+     << (ok ? std::string("ok") : failure_text(row.at("failure")));
+  for (const auto& w : row.at("wall_s")) md << " | " << seconds_cell(w);
+  if (ok) {
+    md << " | " << rate_cell(row.at("particle_steps_per_s").get<double>()) << " | "
+       << iterations_cell(row.at("iterations_density").get<double>()) << " | "
+       << iterations_cell(row.at("iterations_divergence").get<double>()) << " | "
+       << format("%.3g", row.at("density_error_percent").get<double>()) << " | "
+       << row.at("fluid_particles").get<long>();
+  } else {
+    md << " | – | – | – | – | –";
   }
+  if (spill) {
+    if (row.contains("spill")) {
+      const nlohmann::json& s = row.at("spill");
+      md << " | " << format("%.3f", s.at("peak_slick_area_m2").get<double>()) << " ("
+         << format("%g", s.at("peak_slick_area_t_s").get<double>()) << ") | "
+         << format("%.2f", s.at("furthest_front_m").get<double>()) << " | "
+         << optional_seconds(s.at("first_left_bank_contact_s")) << " | "
+         << optional_seconds(s.at("first_right_bank_contact_s"));
+    } else {
+      md << " | – | – | – | –";
+    }
+  }
+  md << " |\n";
+}
+
+// What the columns mean, the failures, and what views.png shows.
+void markdown_notes(std::ostream& md, const nlohmann::json& table, bool spill) {
   md << "\nWall time: the simulation's alone from t = 0 (setting the scene up, pictures and "
         "metrics not counted). Iterations: mean per solver step; – where the solver made none. "
         "Density error: the mean relative density error over the last frame's steps.";
@@ -299,8 +306,73 @@ std::string solver_table_markdown(const nlohmann::json& table) {
   for (size_t k = 0; k < views.at("rows_t_s").size(); ++k)
     md << (k ? ", " : "") << time_label(views.at("rows_t_s")[k].get<double>());
   md << ". Grey cells: the solver had failed before that moment.\n";
+}
+
+}  // namespace
+
+std::string solver_table_markdown(const nlohmann::json& table) {
+  std::ostringstream md;
+  markdown_header(md, table);
+  bool spill = false;
+  for (const auto& row : table.at("rows")) spill = spill || row.contains("spill");
+  markdown_column_heads(md, table, spill);
+  for (const auto& row : table.at("rows")) markdown_row(md, row, spill);
+  markdown_notes(md, table, spill);
   return md.str();
 }
+
+namespace {
+
+// Refuses moments beyond the scene's end, saying how to reach them.
+void check_frames_fit(const SolverTableRequest& r, const SceneConfig& scene) {
+  const double frame_dt = shortest_decimal(scene.output.frame_dt);
+  const int scene_frames = frame_count(scene);
+  if (r.frames.back() > scene_frames)
+    throw common::InputError(
+        "--frames " + std::to_string(r.frames.back()) + ": the scene ends at frame " +
+        std::to_string(scene_frames) + " (end_time " + format("%g", double(scene.end_time)) +
+        " s, frames every " + format("%g", frame_dt) +
+        " s); raise it with --set /end_time=" + format("%g", double(r.frames.back()) * frame_dt));
+}
+
+// A picture of a solver that finished, to size the grid's cells; throws when every solver failed.
+const common::RgbImage& finished_picture(const std::vector<SolverRun>& runs,
+                                         const std::vector<std::string>& solvers) {
+  const common::RgbImage* reference = nullptr;
+  std::string failures;
+  for (size_t s = 0; s < runs.size(); ++s) {
+    if (runs[s].row.at("status") == "ok") {
+      if (!reference) reference = &*runs[s].views.front();
+    } else {
+      failures += (failures.empty() ? "" : "; ") + solvers[s] + " " +
+                  failure_text(runs[s].row.at("failure")) + ": " +
+                  runs[s].row.at("failure").at("reason").get<std::string>();
+    }
+  }
+  if (!reference) throw SimulationError("every solver failed, nothing written: " + failures);
+  return *reference;
+}
+
+// table.json's "definitions": what each figure of a row means.
+nlohmann::json row_definitions() {
+  return {{"wall_s",
+           "seconds of simulation from t = 0 to each moment (setup, pictures and metrics "
+           "not counted); null where the solver had failed"},
+          {"setup_s", "seconds to set the scene up (particles, boundary, terrain)"},
+          {"particle_steps_per_s", "solver steps x active fluid particles at the end / wall time"},
+          {"iterations_density", "mean constant-density (pressure) iterations per solver step"},
+          {"iterations_divergence", "mean divergence-free iterations per solver step"},
+          {"density_error_percent", "mean relative density error over the last frame's steps, %"},
+          {"fluid_particles", "active fluid particles at the end"},
+          {"spill",
+           "river leaks: the largest slick area over the run and when, the furthest front, first "
+           "bank contacts and arrivals (per frame in a run's spill.json)"},
+          {"failure",
+           "the frame being simulated when the run failed (null: while setting up), "
+           "the simulated time it had reached and the error"}};
+}
+
+}  // namespace
 
 nlohmann::json write_solver_table(const SolverTableRequest& r) {
   check_request(r);
@@ -308,13 +380,7 @@ nlohmann::json write_solver_table(const SolverTableRequest& r) {
       load_scene_per_solver(r.scene_file, r.overrides, r.solvers, "--solvers");
   const SceneConfig& first = scenes.front().config;
   const double frame_dt = shortest_decimal(first.output.frame_dt);
-  const int scene_frames = frame_count(first);
-  if (r.frames.back() > scene_frames)
-    throw common::InputError(
-        "--frames " + std::to_string(r.frames.back()) + ": the scene ends at frame " +
-        std::to_string(scene_frames) + " (end_time " + format("%g", double(first.end_time)) +
-        " s, frames every " + format("%g", frame_dt) +
-        " s); raise it with --set /end_time=" + format("%g", double(r.frames.back()) * frame_dt));
+  check_frames_fit(r, first);
   const common::ViewAxis axis =
       first.terrain_grid ? common::ViewAxis::kRiver : common::ViewAxis::kTop;
 
@@ -330,19 +396,7 @@ nlohmann::json write_solver_table(const SolverTableRequest& r) {
     runs.push_back(run_solver(scenes[s], r, frame_dt, axis,
                               "compare " + r.solvers[s] + " (" + std::to_string(s + 1) + "/" +
                                   std::to_string(scenes.size()) + ")"));
-
-  const common::RgbImage* reference = nullptr;  // a picture of a solver that finished
-  std::string failures;
-  for (size_t s = 0; s < runs.size(); ++s) {
-    if (runs[s].row.at("status") == "ok") {
-      if (!reference) reference = &*runs[s].views.front();
-    } else {
-      failures += (failures.empty() ? "" : "; ") + r.solvers[s] + " " +
-                  failure_text(runs[s].row.at("failure")) + ": " +
-                  runs[s].row.at("failure").at("reason").get<std::string>();
-    }
-  }
-  if (!reference) throw SimulationError("every solver failed, nothing written: " + failures);
+  const common::RgbImage& reference = finished_picture(runs, r.solvers);
 
   std::vector<std::string> row_labels;
   nlohmann::json times = nlohmann::json::array();
@@ -350,7 +404,7 @@ nlohmann::json write_solver_table(const SolverTableRequest& r) {
     times.push_back(double(frame) * frame_dt);
     row_labels.push_back(time_label(double(frame) * frame_dt));
   }
-  common::PictureGrid grid(reference->width, reference->height, r.solvers, row_labels);
+  common::PictureGrid grid(reference.width, reference.height, r.solvers, row_labels);
   for (size_t s = 0; s < runs.size(); ++s)
     for (size_t k = 0; k < r.frames.size(); ++k) {
       if (runs[s].views[k])
@@ -361,43 +415,27 @@ nlohmann::json write_solver_table(const SolverTableRequest& r) {
 
   nlohmann::json rows = nlohmann::json::array();
   for (const auto& run : runs) rows.push_back(run.row);
-  const nlohmann::json table = {
-      {"command", "spill-sim compare"},
-      {"scene", first.name},
-      {"scene_file", r.scene_file},
-      {"overrides", r.overrides},
-      {"frame_dt", frame_dt},
-      {"frames", r.frames},
-      {"times_s", times},
-      {"threads", r.threads},
-      {"machine", machine_description(r.threads)},
-      {"solvers", r.solvers},
-      {"rows", rows},
-      {"views",
-       {{"file", "views.png"},
-        {"view", axis == common::ViewAxis::kRiver ? "river" : "top"},
-        {"columns", r.solvers},
-        {"rows_t_s", times},
-        {"cell_width", grid.cell_width()},
-        {"cell_height", grid.cell_height()},
-        {"width", grid.image().width},
-        {"height", grid.image().height}}},
-      {"definitions",
-       {{"wall_s",
-         "seconds of simulation from t = 0 to each moment (setup, pictures and metrics "
-         "not counted); null where the solver had failed"},
-        {"setup_s", "seconds to set the scene up (particles, boundary, terrain)"},
-        {"particle_steps_per_s", "solver steps x active fluid particles at the end / wall time"},
-        {"iterations_density", "mean constant-density (pressure) iterations per solver step"},
-        {"iterations_divergence", "mean divergence-free iterations per solver step"},
-        {"density_error_percent", "mean relative density error over the last frame's steps, %"},
-        {"fluid_particles", "active fluid particles at the end"},
-        {"spill",
-         "river leaks: the largest slick area over the run and when, the furthest front, first "
-         "bank contacts and arrivals (per frame in a run's spill.json)"},
-        {"failure",
-         "the frame being simulated when the run failed (null: while setting up), "
-         "the simulated time it had reached and the error"}}}};
+  const nlohmann::json table = {{"command", "spill-sim compare"},
+                                {"scene", first.name},
+                                {"scene_file", r.scene_file},
+                                {"overrides", r.overrides},
+                                {"frame_dt", frame_dt},
+                                {"frames", r.frames},
+                                {"times_s", times},
+                                {"threads", r.threads},
+                                {"machine", machine_description(r.threads)},
+                                {"solvers", r.solvers},
+                                {"rows", rows},
+                                {"views",
+                                 {{"file", "views.png"},
+                                  {"view", axis == common::ViewAxis::kRiver ? "river" : "top"},
+                                  {"columns", r.solvers},
+                                  {"rows_t_s", times},
+                                  {"cell_width", grid.cell_width()},
+                                  {"cell_height", grid.cell_height()},
+                                  {"width", grid.image().width},
+                                  {"height", grid.image().height}}},
+                                {"definitions", row_definitions()}};
 
   const std::filesystem::path& staging = output.staging();
   common::write_file_atomically(staging / "table.json", table.dump(2) + "\n");

@@ -6,7 +6,7 @@
 #include <tuple>
 
 #include "sph/core/lattice.h"
-#include "sph/neighbours/neighbour_grid.h"
+#include "sph/core/neighbour_grid.h"
 
 namespace sph {
 
@@ -120,15 +120,16 @@ std::vector<Real> boundary_volumes(const std::vector<Vec3>& positions, KernelKin
   return volume;
 }
 
-BoundaryParticles build_boundary(const SceneConfig& scene, KernelKind kernel) {
-  const Real spacing = scene.particle_diameter();
+BoundaryParticles build_boundary(const std::vector<BoxConfig>& boxes,
+                                 const std::vector<HeightFieldConfig>& height_fields, Real spacing,
+                                 Real support_radius, KernelKind kernel) {
   // The boundary layer sits behind each declared surface, at the distance where a fluid lattice
   // resting against the surface (centres one radius in front of it) has the rest density: about
   // 1.3 radii for the cubic spline with a 4-radius support. A layer on the surface itself would
   // give 1.55 rho0 at one radius, and the first pressure solve would blow such a block apart.
-  const Real offset = boundary_layer_offset(kernel, scene.support_radius(), spacing);
+  const Real offset = boundary_layer_offset(kernel, support_radius, spacing);
   std::vector<Vec3> points;
-  for (const auto& box : scene.boxes) {
+  for (const auto& box : boxes) {
     Vec3 lo = box.min, hi = box.max;
     if (box.fluid_side == "inside") {
       lo.array() -= offset;
@@ -141,28 +142,16 @@ BoundaryParticles build_boundary(const SceneConfig& scene, KernelKind kernel) {
     auto p = sample_box_surface(lo, hi, spacing, box.open_top);
     points.insert(points.end(), p.begin(), p.end());
   }
-  for (const auto& field : scene.height_fields) {
+  for (const auto& field : height_fields) {
     HeightFieldConfig lowered = field;
     for (auto& row : lowered.heights)
       for (auto& z : row) z -= offset;
     auto p = sample_height_field(lowered, spacing);
     points.insert(points.end(), p.begin(), p.end());
   }
-  if (scene.terrain_grid) {
-    const Terrain& t = *scene.terrain_grid;
-    HeightFieldConfig field;
-    field.origin = Vec3(t.origin_x, t.origin_y, 0);
-    field.cell_size = t.cell_size;
-    field.heights.assign(size_t(t.ny), std::vector<Real>(size_t(t.nx)));
-    for (int iy = 0; iy < t.ny; ++iy)
-      for (int ix = 0; ix < t.nx; ++ix)
-        field.heights[size_t(iy)][size_t(ix)] = t.at(ix, iy) - offset;
-    auto p = sample_height_field(field, spacing);
-    points.insert(points.end(), p.begin(), p.end());
-  }
   BoundaryParticles boundary;
   boundary.position = remove_duplicates(points, spacing * Real(0.25));
-  boundary.volume = boundary_volumes(boundary.position, kernel, scene.support_radius());
+  boundary.volume = boundary_volumes(boundary.position, kernel, support_radius);
   return boundary;
 }
 

@@ -8,8 +8,8 @@
 
 #include <vector>
 
+#include "sph/boundary/boundary_configs.h"
 #include "sph/core/kernels.h"
-#include "sph/core/scene.h"
 #include "sph/core/types.h"
 
 namespace sph {
@@ -34,9 +34,12 @@ std::vector<Vec3> sample_height_field(const HeightFieldConfig& field, Real spaci
 std::vector<Real> boundary_volumes(const std::vector<Vec3>& positions, KernelKind kernel,
                                    Real support_radius);
 
-// All boundary particles of a scene (boxes and height fields), with volumes. The layer is placed
-// one particle radius behind each declared surface (outside a tank's walls, inside an obstacle,
-// below a terrain), so the declared surfaces are where the fluid ends.
-BoundaryParticles build_boundary(const SceneConfig& scene, KernelKind kernel);
+// All boundary particles of a scene's surfaces (boxes, then height fields, a terrain among them),
+// sampled `spacing` (the particle diameter) apart, with volumes. The layer is placed behind each
+// declared surface (outside a tank's walls, inside an obstacle, below a terrain), so the declared
+// surfaces are where the fluid ends.
+BoundaryParticles build_boundary(const std::vector<BoxConfig>& boxes,
+                                 const std::vector<HeightFieldConfig>& height_fields, Real spacing,
+                                 Real support_radius, KernelKind kernel);
 
 }  // namespace sph

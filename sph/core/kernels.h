@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <string>
 
 #include "sph/core/types.h"
 
@@ -118,6 +119,12 @@ class WendlandC2Kernel {
 
 // The kernels a scene can choose by name.
 enum class KernelKind { kCubicSpline, kWendlandC2 };
+
+// The kernel a scene's `kernel` value names ("wendland_c2"; anything else is the cubic spline:
+// the scene's schema admits only the two).
+inline KernelKind kernel_kind(const std::string& name) {
+  return name == "wendland_c2" ? KernelKind::kWendlandC2 : KernelKind::kCubicSpline;
+}
 
 // Calls f(kernel) with the concrete kernel type, so hot loops are compiled per kernel instead of
 // paying for a virtual call per pair.

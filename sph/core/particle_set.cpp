@@ -13,7 +13,7 @@ PhaseMix mix_phases(Real oil_fraction, Real water_density, Real water_viscosity,
   m.oil_fraction = oil_fraction;
   m.rest_density = (1 - oil_fraction) * water_density + oil_fraction * oil_density;
   m.viscosity = (1 - oil_fraction) * water_viscosity + oil_fraction * oil_viscosity;
-  m.type = oil_fraction >= Real(0.5) ? ParticleType::kOil : ParticleType::kWater;
+  m.type = is_oil(oil_fraction) ? ParticleType::kOil : ParticleType::kWater;
   return m;
 }
 

@@ -21,6 +21,12 @@ using Index = std::uint32_t;
 // Particle type codes of the data contract (docs/design.md): 0 water, 1 oil, 2 boundary.
 enum class ParticleType : std::int32_t { kWater = 0, kOil = 1, kBoundary = 2 };
 
+// The one oil rule. A fluid particle's phase in a frame is its oil volume fraction, not the type
+// it was made with (MTDF-SPH's mixture model moves oil between particles): oil from half on.
+// Every oil measure (spill metrics, pictures, node types, scores) uses it.
+constexpr double kOilFractionThreshold = 0.5;
+inline bool is_oil(Real oil_fraction) { return oil_fraction >= Real(kOilFractionThreshold); }
+
 // Axis-aligned box.
 struct Aabb {
   Vec3 min = Vec3::Zero();

@@ -8,7 +8,6 @@
 #include "sph/forces/surface_tension_force.h"
 #include "sph/forces/viscosity_force.h"
 #include "sph/forces/xsph_force.h"
-#include "sph/solvers/pressure_solver.h"
 
 namespace sph {
 
@@ -21,12 +20,12 @@ std::vector<NonPressureForceEntry> non_pressure_force_entries() {
   };
 }
 
-std::vector<std::unique_ptr<NonPressureForce>> make_non_pressure_forces(const SceneConfig& scene) {
-  const std::vector<std::string> asked = pressure_solver_entry(scene.solver).forces;
+std::vector<std::unique_ptr<NonPressureForce>> make_non_pressure_forces(
+    const PhysicsContext& physics, const std::vector<std::string>& asked_by_solver) {
   std::vector<std::unique_ptr<NonPressureForce>> forces;
   for (const auto& e : non_pressure_force_entries())
-    if (e.wanted(scene) || std::count(asked.begin(), asked.end(), e.name) > 0)
-      forces.push_back(e.make(scene));
+    if (e.wanted(physics) || std::count(asked_by_solver.begin(), asked_by_solver.end(), e.name) > 0)
+      forces.push_back(e.make(physics));
   return forces;
 }
 

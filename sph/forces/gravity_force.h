@@ -11,9 +11,9 @@ class GravityForce : public NonPressureForce {
   static NonPressureForceEntry entry() {
     return {"gravity",
             {},
-            [](const SceneConfig&) { return true; },
-            [](const SceneConfig& scene) -> std::unique_ptr<NonPressureForce> {
-              return std::make_unique<GravityForce>(scene.gravity);
+            [](const PhysicsContext&) { return true; },
+            [](const PhysicsContext& physics) -> std::unique_ptr<NonPressureForce> {
+              return std::make_unique<GravityForce>(physics.gravity);
             }};
   }
   std::string name() const override { return "gravity"; }

@@ -6,9 +6,10 @@
 #include <string>
 #include <vector>
 
+#include "common/config_section.h"
 #include "sph/boundary/boundary.h"
 #include "sph/core/particle_set.h"
-#include "sph/core/scene.h"
+#include "sph/core/physics_context.h"
 #include "sph/neighbours/neighbourhood.h"
 
 namespace sph {
@@ -30,14 +31,16 @@ struct NonPressureForceEntry {
   std::vector<common::ConfigSectionEntry> sections;
   // Whether the scene asks for it by itself (gravity always, viscosity when a phase is viscous);
   // a pressure solver can also ask for it by name (PressureSolverEntry::forces).
-  bool (*wanted)(const SceneConfig& scene);
-  std::unique_ptr<NonPressureForce> (*make)(const SceneConfig& scene);
+  bool (*wanted)(const PhysicsContext& physics);
+  std::unique_ptr<NonPressureForce> (*make)(const PhysicsContext& physics);
 };
 
 // Every registered force, in the order forces are applied.
 std::vector<NonPressureForceEntry> non_pressure_force_entries();
 
-// The forces the scene and its pressure solver ask for, in the order they are applied.
-std::vector<std::unique_ptr<NonPressureForce>> make_non_pressure_forces(const SceneConfig& scene);
+// The forces the scene asks for (NonPressureForceEntry::wanted) and those its pressure solver
+// asks for by name (`asked_by_solver`: PressureSolverEntry::forces), in the order they are applied.
+std::vector<std::unique_ptr<NonPressureForce>> make_non_pressure_forces(
+    const PhysicsContext& physics, const std::vector<std::string>& asked_by_solver);
 
 }  // namespace sph

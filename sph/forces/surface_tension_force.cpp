@@ -97,11 +97,12 @@ NonPressureForceEntry SurfaceTensionForce::entry() {
   return {"surface_tension",
           {common::ConfigSectionEntry::of<SurfaceTensionConfig>(
               "surface_tension", "Cosine-force surface tension (solver mtdf only)")},
-          [](const SceneConfig&) { return false; },
-          [](const SceneConfig& scene) -> std::unique_ptr<NonPressureForce> {
+          [](const PhysicsContext&) { return false; },
+          [](const PhysicsContext& physics) -> std::unique_ptr<NonPressureForce> {
             return std::make_unique<SurfaceTensionForce>(
-                scene.settings<SurfaceTensionConfig>("surface_tension"), scene.particle_diameter(),
-                scene.support_radius(), scene.materials.water.density);
+                physics.settings<SurfaceTensionConfig>("surface_tension"),
+                physics.particle_diameter(), physics.support_radius,
+                physics.materials.water.density);
           }};
 }
 

@@ -5,12 +5,12 @@ namespace sph {
 NonPressureForceEntry ViscosityForce::entry() {
   return {"viscosity",
           {},
-          [](const SceneConfig& scene) {
-            const MaterialsConfig& m = scene.materials;
-            return m.water.viscosity > 0 || m.oil.viscosity > 0 || scene.boundary.friction > 0;
+          [](const PhysicsContext& physics) {
+            const MaterialsConfig& m = physics.materials;
+            return m.water.viscosity > 0 || m.oil.viscosity > 0 || physics.boundary_friction > 0;
           },
-          [](const SceneConfig& scene) -> std::unique_ptr<NonPressureForce> {
-            return std::make_unique<ViscosityForce>(scene.boundary.friction);
+          [](const PhysicsContext& physics) -> std::unique_ptr<NonPressureForce> {
+            return std::make_unique<ViscosityForce>(physics.boundary_friction);
           }};
 }
 

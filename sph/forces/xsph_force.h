@@ -15,9 +15,9 @@ class XsphForce : public NonPressureForce {
   static NonPressureForceEntry entry() {
     return {"xsph",
             {},
-            [](const SceneConfig& scene) { return scene.xsph > 0; },
-            [](const SceneConfig& scene) -> std::unique_ptr<NonPressureForce> {
-              return std::make_unique<XsphForce>(scene.xsph);
+            [](const PhysicsContext& physics) { return physics.xsph > 0; },
+            [](const PhysicsContext& physics) -> std::unique_ptr<NonPressureForce> {
+              return std::make_unique<XsphForce>(physics.xsph);
             }};
   }
   std::string name() const override { return "xsph"; }

@@ -14,7 +14,7 @@
 #include <string>
 #include <vector>
 
-#include "sph/core/simulation.h"
+#include "sph/simulation/simulation.h"
 
 namespace sph {
 

@@ -8,8 +8,8 @@
 
 #include "sph/boundary/boundary.h"
 #include "sph/core/kernels.h"
+#include "sph/core/neighbour_grid.h"
 #include "sph/core/particle_set.h"
-#include "sph/neighbours/neighbour_grid.h"
 
 namespace sph {
 

@@ -14,7 +14,7 @@
 
 namespace sph {
 
-// The built-in river generator (sph/river_generator.h): water flows along +x, its surface is
+// The built-in river generator (sph/river/river_generator.h): water flows along +x, its surface is
 // z = 0, and the reach runs straight, bends, narrows and widens.
 struct RiverGeneratorConfig {
   int seed = 1;

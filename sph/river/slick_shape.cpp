@@ -22,7 +22,7 @@ SlickShape measure_slick(const FluidParticles& f, Real cell) {
   for (Index i = 0; i < f.active_count(); ++i) {
     const double oil = double(f.oil_fraction[i]) * double(f.rest_volume[i]);
     s.oil_volume_m3 += oil;
-    if (f.oil_fraction[i] < Real(0.5)) continue;
+    if (!is_oil(f.oil_fraction[i])) continue;
     const Vec3& p = f.position[i];
     oil_in_cell[{long(std::floor(p.x() / cell)), long(std::floor(p.y() / cell))}] += oil;
     oil_in_oil_particles += oil;

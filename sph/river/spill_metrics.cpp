@@ -59,7 +59,7 @@ const SpillFrame& SpillMetrics::measure(const FluidParticles& f, double t, doubl
   frame.slick_area_m2 = frame.slick.area_m2;
   bool any_oil = false;
   for (Index i = 0; i < f.active_count(); ++i) {
-    if (f.oil_fraction[i] < Real(0.5)) continue;
+    if (!is_oil(f.oil_fraction[i])) continue;
     const Vec3& p = f.position[i];
     const double ahead = double(p.x() - leak_x_);
     frame.front_distance_m = any_oil ? std::max(frame.front_distance_m, ahead) : ahead;

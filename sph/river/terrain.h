@@ -1,8 +1,8 @@
 #pragma once
 // Terrain as a regular grid of heights over the x-y plane, with an optional water mask: the river
-// bed and banks of a river scene. It comes from a height map (sph/height_map_io.h) or from the
-// built-in river generator (sph/river_generator.h) and is sampled into boundary particles like
-// any height field.
+// bed and banks of a river scene. It comes from a height map (sph/river/height_map_io.h) or from
+// the built-in river generator (sph/river/river_generator.h) and is sampled into boundary particles
+// like any height field.
 
 #include <cstdint>
 #include <vector>

@@ -25,10 +25,10 @@ PressureSolverEntry DfsphSolver::entry() {
   return {"dfsph",
           {common::ConfigSectionEntry::of<DfsphConfig>("dfsph", "DFSPH solver settings")},
           {},
-          [](const SceneConfig& scene) -> std::unique_ptr<PressureSolver> {
-            return std::make_unique<DfsphSolver>(scene.settings<DfsphConfig>("dfsph"),
-                                                 scene.time_step.dt_max,
-                                                 scene.materials.water.density);
+          [](const PhysicsContext& physics) -> std::unique_ptr<PressureSolver> {
+            return std::make_unique<DfsphSolver>(physics.settings<DfsphConfig>("dfsph"),
+                                                 physics.time_step.dt_max,
+                                                 physics.materials.water.density);
           }};
 }
 

@@ -13,9 +13,9 @@ PressureSolverEntry IisphSolver::entry() {
   return {"iisph",
           {common::ConfigSectionEntry::of<IisphConfig>("iisph", "IISPH solver settings")},
           {},
-          [](const SceneConfig& scene) -> std::unique_ptr<PressureSolver> {
-            return std::make_unique<IisphSolver>(scene.settings<IisphConfig>("iisph"),
-                                                 scene.materials.water.density);
+          [](const PhysicsContext& physics) -> std::unique_ptr<PressureSolver> {
+            return std::make_unique<IisphSolver>(physics.settings<IisphConfig>("iisph"),
+                                                 physics.materials.water.density);
           }};
 }
 

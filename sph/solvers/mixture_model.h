@@ -39,7 +39,7 @@
 #include <vector>
 
 #include "sph/core/particle_set.h"
-#include "sph/core/scene.h"
+#include "sph/core/physics_context.h"
 #include "sph/neighbours/neighbourhood.h"
 
 namespace sph {

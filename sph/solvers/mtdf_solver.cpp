@@ -10,15 +10,15 @@ PressureSolverEntry MtdfSolver::entry() {
           {common::ConfigSectionEntry::of<MixtureConfig>("mixture",
                                                          "Mixture model (solver mtdf only)")},
           {"surface_tension"},
-          [](const SceneConfig& scene) -> std::unique_ptr<PressureSolver> {
-            return std::make_unique<MtdfSolver>(scene);
+          [](const PhysicsContext& physics) -> std::unique_ptr<PressureSolver> {
+            return std::make_unique<MtdfSolver>(physics);
           }};
 }
 
-MtdfSolver::MtdfSolver(const SceneConfig& scene)
-    : DfsphSolver(scene.settings<DfsphConfig>("dfsph"), scene.time_step.dt_max,
-                  scene.materials.water.density),
-      mixture_(scene.settings<MixtureConfig>("mixture"), scene.materials, scene.gravity) {}
+MtdfSolver::MtdfSolver(const PhysicsContext& physics)
+    : DfsphSolver(physics.settings<DfsphConfig>("dfsph"), physics.time_step.dt_max,
+                  physics.materials.water.density),
+      mixture_(physics.settings<MixtureConfig>("mixture"), physics.materials, physics.gravity) {}
 
 void MtdfSolver::permute(const std::vector<Index>& order) {
   DfsphSolver::permute(order);

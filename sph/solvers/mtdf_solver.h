@@ -21,7 +21,7 @@ namespace sph {
 
 class MtdfSolver : public DfsphSolver {
  public:
-  explicit MtdfSolver(const SceneConfig& scene);
+  explicit MtdfSolver(const PhysicsContext& physics);
   static PressureSolverEntry entry();
   std::string name() const override { return "mtdf"; }
   void permute(const std::vector<Index>& order) override;

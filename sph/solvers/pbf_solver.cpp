@@ -15,10 +15,10 @@ PressureSolverEntry PbfSolver::entry() {
   return {"pbf",
           {common::ConfigSectionEntry::of<PbfConfig>("pbf", "PBF solver settings")},
           {},
-          [](const SceneConfig& scene) -> std::unique_ptr<PressureSolver> {
-            return std::make_unique<PbfSolver>(scene.settings<PbfConfig>("pbf"),
-                                               scene.particle_diameter(),
-                                               scene.materials.water.density);
+          [](const PhysicsContext& physics) -> std::unique_ptr<PressureSolver> {
+            return std::make_unique<PbfSolver>(physics.settings<PbfConfig>("pbf"),
+                                               physics.particle_diameter(),
+                                               physics.materials.water.density);
           }};
 }
 

@@ -13,15 +13,15 @@ PressureSolverEntry PfsphSolver::entry() {
           {common::ConfigSectionEntry::of<PfsphConfig>(
               "pfsph", "PF-SPH pairwise-force strengths (solver pfsph only)")},
           {},
-          [](const SceneConfig& scene) -> std::unique_ptr<PressureSolver> {
-            return std::make_unique<PfsphSolver>(scene);
+          [](const PhysicsContext& physics) -> std::unique_ptr<PressureSolver> {
+            return std::make_unique<PfsphSolver>(physics);
           }};
 }
 
-PfsphSolver::PfsphSolver(const SceneConfig& scene)
-    : WcsphSolver(scene.settings<WcsphConfig>("wcsph"), scene.particle_diameter(),
-                  scene.time_step.cfl, scene.materials.water.density),
-      config_(scene.settings<PfsphConfig>("pfsph")) {}
+PfsphSolver::PfsphSolver(const PhysicsContext& physics)
+    : WcsphSolver(physics.settings<WcsphConfig>("wcsph"), physics.particle_diameter(),
+                  physics.time_step.cfl, physics.materials.water.density),
+      config_(physics.settings<PfsphConfig>("pfsph")) {}
 
 void PfsphSolver::after_non_pressure_forces(SolverHost& host, Real) {
   common::ScopedTimer timer(host.time_split().solver_parts["pairwise_force"]);
@@ -43,10 +43,10 @@ void PfsphSolver::after_non_pressure_forces(SolverHost& host, Real) {
 #pragma omp parallel for schedule(dynamic, 64)
   for (long li = 0; li < n; ++li) {
     const Index i = Index(li);
-    const int phase_i = fluid.oil_fraction[i] >= Real(0.5);
+    const int phase_i = is_oil(fluid.oil_fraction[i]);
     Vec3 a = Vec3::Zero();
     nb.fluid.for_each(i, [&](Index j, Index) {
-      const int phase_j = fluid.oil_fraction[j] >= Real(0.5);
+      const int phase_j = is_oil(fluid.oil_fraction[j]);
       a += strength[phase_i][phase_j] * pair_force(x[i] - x[j]);
     });
     if (walls)

@@ -44,7 +44,7 @@ struct PfsphConfig {
 
 class PfsphSolver : public WcsphSolver {
  public:
-  explicit PfsphSolver(const SceneConfig& scene);
+  explicit PfsphSolver(const PhysicsContext& physics);
   static PressureSolverEntry entry();
   std::string name() const override { return "pfsph"; }
 

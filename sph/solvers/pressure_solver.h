@@ -6,8 +6,9 @@
 #include <string>
 #include <vector>
 
-#include "sph/core/scene.h"
-#include "sph/core/solver_host.h"
+#include "common/config_section.h"
+#include "sph/core/physics_context.h"
+#include "sph/solvers/solver_host.h"
 
 namespace sph {
 
@@ -29,15 +30,16 @@ struct PressureSolverEntry {
   std::vector<common::ConfigSectionEntry> sections;
   // Non-pressure forces it adds to those the scene asks for (NonPressureForceEntry::name).
   std::vector<std::string> forces;
-  std::unique_ptr<PressureSolver> (*make)(const SceneConfig& scene);
+  std::unique_ptr<PressureSolver> (*make)(const PhysicsContext& physics);
 };
 
-// Every registered solver, in the registry's order.
+// Every registered solver, in the registry's order, and their names.
 std::vector<PressureSolverEntry> pressure_solver_entries();
+std::vector<std::string> pressure_solver_names();
 // The entry of `name`. Throws std::invalid_argument for an unknown name.
 PressureSolverEntry pressure_solver_entry(const std::string& name);
 
-// Builds the solver named in scene.solver. Throws std::invalid_argument for an unknown name.
-std::unique_ptr<PressureSolver> make_pressure_solver(const SceneConfig& scene);
+// Builds the solver named in physics.solver. Throws std::invalid_argument for an unknown name.
+std::unique_ptr<PressureSolver> make_pressure_solver(const PhysicsContext& physics);
 
 }  // namespace sph

@@ -37,8 +37,8 @@ PressureSolverEntry pressure_solver_entry(const std::string& name) {
   throw std::invalid_argument("unknown pressure solver \"" + name + "\"");
 }
 
-std::unique_ptr<PressureSolver> make_pressure_solver(const SceneConfig& scene) {
-  return pressure_solver_entry(scene.solver).make(scene);
+std::unique_ptr<PressureSolver> make_pressure_solver(const PhysicsContext& physics) {
+  return pressure_solver_entry(physics.solver).make(physics);
 }
 
 }  // namespace sph

@@ -12,10 +12,10 @@ PressureSolverEntry WcsphSolver::entry() {
   return {"wcsph",
           {common::ConfigSectionEntry::of<WcsphConfig>("wcsph", "WCSPH solver settings")},
           {},
-          [](const SceneConfig& scene) -> std::unique_ptr<PressureSolver> {
-            return std::make_unique<WcsphSolver>(scene.settings<WcsphConfig>("wcsph"),
-                                                 scene.particle_diameter(), scene.time_step.cfl,
-                                                 scene.materials.water.density);
+          [](const PhysicsContext& physics) -> std::unique_ptr<PressureSolver> {
+            return std::make_unique<WcsphSolver>(physics.settings<WcsphConfig>("wcsph"),
+                                                 physics.particle_diameter(), physics.time_step.cfl,
+                                                 physics.materials.water.density);
           }};
 }
 

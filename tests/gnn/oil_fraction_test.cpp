@@ -11,10 +11,10 @@
 #include "gnn/eval/rollout.h"
 #include "gnn/eval/spill_measures.h"
 #include "gnn/models/learned_simulator.h"
-#include "sph/core/scene.h"
-#include "sph/core/simulation.h"
 #include "sph/io/tensor_recorder.h"
 #include "sph/river/slick_shape.h"
+#include "sph/scene/scene_loader.h"
+#include "sph/simulation/simulation.h"
 
 namespace {
 

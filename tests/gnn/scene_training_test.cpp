@@ -16,7 +16,8 @@
 #include "gnn/data/dataset.h"
 #include "gnn/data/simulated_dataset.h"
 #include "gnn/training/checkpoint.h"
-#include "sph/app/dataset_generator.h"
+#include "sph/generation/dataset_folder.h"
+#include "sph/generation/generation.h"
 #include "tests/gnn/training_log.h"
 
 namespace fs = std::filesystem;

@@ -13,8 +13,8 @@
 #include <cmath>
 #include <memory>
 
-#include "sph/core/scene.h"
-#include "sph/core/simulation.h"
+#include "sph/scene/scene_loader.h"
+#include "sph/simulation/simulation.h"
 #include "tests/sph/fluid_measures.h"
 
 namespace sph {

@@ -3,7 +3,8 @@
 // trajectories and ends identical to an uninterrupted one, the same seed gives the same data on
 // one thread, and bad requests are clear errors.
 
-#include "sph/app/dataset_generator.h"
+#include "sph/generation/dataset_folder.h"
+#include "sph/generation/generation.h"
 
 #include <gtest/gtest.h>
 #include <hdf5.h>

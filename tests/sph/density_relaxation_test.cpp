@@ -1,5 +1,6 @@
-// The constant-density correction that relaxes learned frames (sph/solvers/density_relaxation.h):
-// it removes compression, and leaves a frame already at rest density where it is.
+// The constant-density correction that relaxes learned frames
+// (sph/simulation/density_relaxation.h): it removes compression, and leaves a frame already at rest
+// density where it is.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -7,9 +8,9 @@
 
 #include <nlohmann/json.hpp>
 
-#include "sph/core/scene.h"
-#include "sph/core/simulation.h"
-#include "sph/solvers/density_relaxation.h"
+#include "sph/scene/scene_loader.h"
+#include "sph/simulation/density_relaxation.h"
+#include "sph/simulation/simulation.h"
 
 namespace {
 

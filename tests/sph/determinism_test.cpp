@@ -5,8 +5,8 @@
 
 #include <cstring>
 
-#include "sph/core/scene.h"
-#include "sph/core/simulation.h"
+#include "sph/scene/scene_loader.h"
+#include "sph/simulation/simulation.h"
 
 namespace sph {
 namespace {

@@ -7,7 +7,8 @@
 
 #include "sph/core/config.h"
 #include "sph/core/lattice.h"
-#include "sph/core/simulation.h"
+#include "sph/scene/scene_loader.h"
+#include "sph/simulation/simulation.h"
 
 namespace sph {
 namespace {

@@ -7,8 +7,8 @@
 #include <cmath>
 #include <iostream>
 
-#include "sph/core/scene.h"
-#include "sph/core/simulation.h"
+#include "sph/scene/scene_loader.h"
+#include "sph/simulation/simulation.h"
 #include "sph/solvers/dfsph_solver.h"
 
 namespace sph {

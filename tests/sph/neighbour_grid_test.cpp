@@ -1,6 +1,6 @@
 // Neighbour search against brute force, including points exactly on cell borders.
 
-#include "sph/neighbours/neighbour_grid.h"
+#include "sph/core/neighbour_grid.h"
 
 #include <gtest/gtest.h>
 

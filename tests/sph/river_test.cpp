@@ -7,9 +7,9 @@
 #include <iostream>
 
 #include "sph/core/config.h"
-#include "sph/core/scene.h"
-#include "sph/core/simulation.h"
 #include "sph/river/spill_metrics.h"
+#include "sph/scene/scene_loader.h"
+#include "sph/simulation/simulation.h"
 
 namespace sph {
 namespace {

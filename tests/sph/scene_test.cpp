@@ -2,7 +2,7 @@
 // file and the JSON pointer; the spill-sim executable turns it into a non-zero exit and writes
 // nothing.
 
-#include "sph/core/scene.h"
+#include "sph/scene/scene_loader.h"
 #include "sph/solvers/dfsph_solver.h"
 
 #include <gtest/gtest.h>
@@ -13,8 +13,8 @@
 #include <fstream>
 
 #include "sph/core/config.h"
-#include "sph/core/scene_size.h"
-#include "sph/core/simulation.h"
+#include "sph/scene/scene_size.h"
+#include "sph/simulation/simulation.h"
 #include "sph/solvers/pressure_solver.h"
 
 namespace sph {

@@ -13,10 +13,10 @@
 #include <vector>
 
 #include "common/config_visitors.h"
-#include "sph/core/scene.h"
-#include "sph/core/simulation.h"
 #include "sph/river/fay_spreading.h"
 #include "sph/river/slick_shape.h"
+#include "sph/scene/scene_loader.h"
+#include "sph/simulation/simulation.h"
 
 namespace sph {
 namespace {

@@ -10,8 +10,8 @@
 
 #include <filesystem>
 
-#include "sph/core/scene.h"
 #include "sph/io/trajectory_writer.h"
+#include "sph/scene/scene_loader.h"
 
 namespace sph {
 namespace {

@@ -12,11 +12,11 @@
 #include <string>
 
 #include "sph/core/config.h"
-#include "sph/core/scene.h"
-#include "sph/core/simulation.h"
 #include "sph/river/height_map_io.h"
 #include "sph/river/leak.h"
 #include "sph/river/river_generator.h"
+#include "sph/scene/scene_loader.h"
+#include "sph/simulation/simulation.h"
 
 namespace sph {
 namespace {

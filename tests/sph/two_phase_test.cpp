@@ -12,8 +12,8 @@
 
 #include <Eigen/Eigenvalues>
 
-#include "sph/core/scene.h"
-#include "sph/core/simulation.h"
+#include "sph/scene/scene_loader.h"
+#include "sph/simulation/simulation.h"
 #include "tests/sph/fluid_measures.h"
 
 namespace sph {

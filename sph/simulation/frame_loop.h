@@ -9,8 +9,8 @@
 
 #include "common/exit_codes.h"
 #include "common/progress.h"
-#include "sph/core/scene.h"
-#include "sph/core/simulation.h"
+#include "sph/scene/scene.h"
+#include "sph/simulation/simulation.h"
 
 namespace sph {
 

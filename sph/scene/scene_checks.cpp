@@ -1,21 +1,14 @@
-#include "sph/core/scene.h"
+#include "sph/scene/scene_checks.h"
 
 #include <algorithm>
 #include <cmath>
-#include <filesystem>
-#include <fstream>
 #include <limits>
 #include <sstream>
 
 #include "sph/boundary/emitter.h"
 #include "sph/core/config.h"
-#include "sph/core/lattice.h"
-#include "sph/core/scene_size.h"
-#include "sph/forces/non_pressure_force.h"
-#include "sph/river/height_map_io.h"
 #include "sph/river/leak.h"
-#include "sph/river/river_generator.h"
-#include "sph/solvers/pressure_solver.h"
+#include "sph/scene/scene_size.h"
 
 namespace sph {
 
@@ -163,56 +156,11 @@ void check_emitters_inside(const SceneConfig& s, const std::string& file) {
                         "the emitter lies outside the domain spanned by the scene's geometry");
 }
 
-// Generates or reads the terrain's height grid. Files are found relative to the scene file.
-std::shared_ptr<const Terrain> load_terrain(const TerrainConfig& c, const std::string& file) {
-  const std::filesystem::path folder = std::filesystem::path(file).parent_path();
-  auto resolve = [&](const std::string& name) { return (folder / name).string(); };
-  if (c.source != "river" && c.file.empty())
-    throw ConfigError(file, "/terrain/file", "expected a height map file for source " + c.source);
-  Terrain t;
-  if (c.source == "river") {
-    check_river_grid_size(c.river, file, "/terrain/river", physical_memory_bytes());
-    t = generate_river(c.river);
-  } else if (c.source == "asc") {
-    t = read_esri_ascii(resolve(c.file));
-  } else {
-    if (!(c.cell_size > 0))
-      throw ConfigError(file, "/terrain/cell_size", "expected > 0 for a PNG height map");
-    if (!(c.z_max > c.z_min))
-      throw ConfigError(file, "/terrain/z_max", "expected > /terrain/z_min");
-    t = read_height_png(resolve(c.file), c.origin[0], c.origin[1], c.cell_size, c.z_min, c.z_max);
-  }
-  if (!c.water_mask.empty()) {
-    if (c.source == "river")
-      throw ConfigError(file, "/terrain/water_mask", "the generated river has its own mask");
-    read_water_mask_png(resolve(c.water_mask), t);
-  }
-  return std::make_shared<const Terrain>(std::move(t));
-}
-
-}  // namespace
-
-SceneConfig::SceneConfig() {
-  for (const auto& solver : pressure_solver_entries())
-    for (const auto& section : solver.sections) sections.add(section);
-  for (const auto& force : non_pressure_force_entries())
-    for (const auto& section : force.sections) sections.add(section);
-}
-
-LoadedScene parse_scene(nlohmann::json j, const std::string& file) {
-  LoadedScene out;
-  out.file = file;
-  JsonReader::read_struct(j, file, "", out.config);
-  if (out.config.terrain) out.config.terrain_grid = load_terrain(*out.config.terrain, file);
-  check_consistency(out.config, file);
-  check_scene_size(out.config, file, physical_memory_bytes());
-  // A leak over dry ground or off the terrain, or an outlet whose speed cannot carry its rate,
-  // is an error naming its entry.
-  const SceneConfig& c = out.config;
+// A leak over dry ground or off the terrain, or an outlet whose speed cannot carry its rate,
+// is an error naming its entry.
+void check_outlets(const SceneConfig& c, const std::string& file) {
   const Real spacing = c.particle_diameter();
-  const Real volume = lattice_rest_volume(
-      c.kernel == "wendland_c2" ? KernelKind::kWendlandC2 : KernelKind::kCubicSpline,
-      c.support_radius(), spacing);
+  const Real volume = particle_rest_volume(c);
   auto check_outlet = [&](const EmitterConfig& e, const std::string& ptr) {
     try {
       Emitter(e, spacing, volume, PhaseMix{});
@@ -227,22 +175,15 @@ LoadedScene parse_scene(nlohmann::json j, const std::string& file) {
   for (size_t i = 0; i < c.leaks.size(); ++i)
     check_outlet(leak_emitter(c.leaks[i], *c.terrain_grid, c.terrain->water_level, file, i),
                  "/leaks/" + std::to_string(i));
-  check_emitters_inside(out.config, file);
-  out.resolved = JsonWriter::write_struct(out.config);
-  return out;
 }
 
-LoadedScene load_scene(const std::string& file, const std::vector<std::string>& overrides) {
-  nlohmann::json j = load_json_file(file, "scene file");
-  apply_overrides(j, overrides, file);
-  return parse_scene(std::move(j), file);
-}
+}  // namespace
 
-std::string scene_reference_markdown() {
-  SceneConfig defaults;
-  DocTable table;
-  defaults.describe(table);
-  return "| key | unit | default | range | description |\n|---|---|---|---|---|\n" + table.rows();
+void check_scene(const SceneConfig& scene, const std::string& file) {
+  check_consistency(scene, file);
+  check_scene_size(scene, file, physical_memory_bytes());
+  check_outlets(scene, file);
+  check_emitters_inside(scene, file);
 }
 
 }  // namespace sph

@@ -1,4 +1,4 @@
-#include "sph/core/scene_size.h"
+#include "sph/scene/scene_size.h"
 
 #include <sys/resource.h>
 #include <unistd.h>

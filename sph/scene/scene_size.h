@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "sph/core/scene.h"
+#include "sph/scene/scene.h"
 
 namespace sph {
 

@@ -11,13 +11,13 @@
 #include "sph/boundary/emitter.h"
 #include "sph/core/lattice.h"
 #include "sph/core/particle_set.h"
-#include "sph/core/scene.h"
 #include "sph/core/simulation_error.h"
-#include "sph/core/solver_host.h"
 #include "sph/forces/non_pressure_force.h"
 #include "sph/neighbours/neighbourhood.h"
 #include "sph/river/river_flow.h"
+#include "sph/scene/scene.h"
 #include "sph/solvers/pressure_solver.h"
+#include "sph/solvers/solver_host.h"
 
 namespace sph {
 
@@ -30,12 +30,6 @@ struct FrameStats {
   double iterations_divergence = 0;  // mean per step
   double dt_min = 0, dt_max = 0;
 };
-
-KernelKind kernel_kind(const std::string& name);
-
-// The rest volume of every fluid particle of `scene` (m^3): that of its lattice at the particle
-// spacing, so that a block at rest has rest density.
-Real particle_rest_volume(const SceneConfig& scene);
 
 class Simulation : private SolverHost {
  public:
@@ -58,7 +52,7 @@ class Simulation : private SolverHost {
   double kinetic_energy() const;                         // J, of the active fluid
 
   // The state of the run (every fluid particle, time, emitters' and river flow's progress) in an
-  // HDF5 file, to continue from later, e.g. a river after its warm-up (sph/simulation_state.cpp).
+  // HDF5 file, to continue from later, e.g. a river after its warm-up (simulation_state.cpp).
   // Solver warm starts are not saved: a continued run converges from a cold start, so it follows
   // the uninterrupted one closely but not bit for bit. load_state() throws ConfigError naming the
   // file and the key when the state does not fit this scene.
@@ -85,8 +79,16 @@ class Simulation : private SolverHost {
   TimeSplit& time_split() override { return time_split_; }
 
   void check_state(int frame) const;
+  // The fluid blocks and the terrain's water fill, each particle of rest volume `volume`.
+  void add_initial_fluid(Real volume);
   // Water at rest in the terrain's water cells, from the ground up to terrain.water_level.
   void fill_terrain_with_water(Real volume);
+  // The emitters (the scene's and its leaks') and the river's inflow, with their reserves.
+  void add_sources(const std::vector<EmitterConfig>& emitter_configs, Real volume);
+  // Without a /domain: the box around boundary, fluid and emitters, grown by a support radius.
+  Aabb geometry_domain(const std::vector<EmitterConfig>& emitter_configs) const;
+  // Every fluid particle and emitter outlet must start inside the domain.
+  void check_initial_positions() const;
   void reorder_by_cell();
 
   SceneConfig scene_;

@@ -9,8 +9,8 @@
 #include <filesystem>
 
 #include "sph/core/config.h"
-#include "sph/core/simulation.h"
 #include "sph/core/simulation_error.h"
+#include "sph/simulation/simulation.h"
 
 namespace sph {
 

@@ -1,4 +1,4 @@
-#include "sph/core/simulation.h"
+#include "sph/simulation/simulation.h"
 
 #include "sph/river/leak.h"
 
@@ -21,11 +21,6 @@ std::string format_vec(const Vec3& p) {
 }
 }  // namespace
 
-KernelKind kernel_kind(const std::string& name) {
-  if (name == "wendland_c2") return KernelKind::kWendlandC2;
-  return KernelKind::kCubicSpline;
-}
-
 void Simulation::fill_terrain_with_water(Real volume) {
   const Terrain& t = *scene_.terrain_grid;
   const Real spacing = scene_.particle_diameter(), r = scene_.particle_radius;
@@ -47,74 +42,20 @@ void Simulation::fill_terrain_with_water(Real volume) {
     }
 }
 
-Real particle_rest_volume(const SceneConfig& scene) {
-  return lattice_rest_volume(kernel_kind(scene.kernel), scene.support_radius(),
-                             scene.particle_diameter());
-}
-
 Simulation::Simulation(const SceneConfig& scene)
     : scene_(scene), kernel_(kernel_kind(scene.kernel)) {
-  boundary_ = build_boundary(scene_, kernel_);
-  const Real spacing = scene_.particle_diameter();
+  boundary_ = build_boundary(scene_.boxes, boundary_height_fields(scene_),
+                             scene_.particle_diameter(), scene_.support_radius(), kernel_);
   const Real volume = particle_rest_volume(scene_);
-  const MaterialsConfig& m = scene_.materials;
-  for (const auto& block : scene_.fluid_blocks) {
-    const PhaseMix mix = mix_phases(block.oil_fraction(), m.water.density, m.water.viscosity,
-                                    m.oil.density, m.oil.viscosity);
-    for (const auto& p : lattice_points(block.min, block.max, spacing))
-      fluid_.add(p, block.velocity, volume, mix);
-  }
-  if (scene_.terrain && scene_.terrain->fill_water) fill_terrain_with_water(volume);
-
+  add_initial_fluid(volume);
   // Leaks are emitters over the river (validated with the scene, so the file name is moot).
   std::vector<EmitterConfig> emitter_configs = scene_.emitters;
   for (size_t k = 0; k < scene_.leaks.size(); ++k)
     emitter_configs.push_back(leak_emitter(scene_.leaks[k], *scene_.terrain_grid,
                                            scene_.terrain->water_level, scene_.name, k));
-  for (size_t k = 0; k < emitter_configs.size(); ++k) {
-    const EmitterConfig& e = emitter_configs[k];
-    try {
-      emitters_.emplace_back(e, spacing, volume,
-                             mix_phases(e.material == "oil" ? 1 : 0, m.water.density,
-                                        m.water.viscosity, m.oil.density, m.oil.viscosity));
-    } catch (const std::invalid_argument& error) {
-      throw SimulationError("emitter " + std::to_string(k) + ": " + error.what());
-    }
-    emitters_.back().allocate(fluid_);
-  }
-
-  if (scene_.flow) {
-    try {
-      flow_ = std::make_unique<RiverFlow>(
-          *scene_.flow, *scene_.terrain_grid, scene_.terrain->water_level, spacing, volume,
-          mix_phases(0, m.water.density, m.water.viscosity, m.oil.density, m.oil.viscosity),
-          double(scene_.output.frame_dt));
-    } catch (const std::invalid_argument& error) {
-      throw SimulationError(std::string("flow: ") + error.what());
-    }
-    flow_->allocate(fluid_);
-  }
-
-  if (scene_.domain) {
-    domain_ = Aabb{scene_.domain->min, scene_.domain->max};
-  } else {
-    domain_ = Aabb{fluid_.size() ? fluid_.position[0] : Vec3::Zero(),
-                   fluid_.size() ? fluid_.position[0] : Vec3::Zero()};
-    for (const auto& p : boundary_.position) {
-      domain_.min = domain_.min.cwiseMin(p);
-      domain_.max = domain_.max.cwiseMax(p);
-    }
-    for (const auto& b : scene_.fluid_blocks) {
-      domain_.min = domain_.min.cwiseMin(b.min);
-      domain_.max = domain_.max.cwiseMax(b.max);
-    }
-    for (const auto& e : emitter_configs) {
-      domain_.min = domain_.min.cwiseMin(e.centre);
-      domain_.max = domain_.max.cwiseMax(e.centre);
-    }
-    domain_.min.array() -= scene_.support_radius();
-    domain_.max.array() += scene_.support_radius();
-  }
+  add_sources(emitter_configs, volume);
+  domain_ = scene_.domain ? Aabb{scene_.domain->min, scene_.domain->max}
+                          : geometry_domain(emitter_configs);
   try {
     neighbourhood_ = std::make_unique<ParticleNeighbourhood>(domain_, kernel_,
                                                              scene_.support_radius(), boundary_);
@@ -126,14 +67,77 @@ Simulation::Simulation(const SceneConfig& scene)
                           "]: grow /domain by a support radius (" +
                           std::to_string(scene_.support_radius()) + " m) around the geometry");
   }
-  solver_ = make_pressure_solver(scene_);
-  forces_ = make_non_pressure_forces(scene_);
+  const PhysicsContext physics = scene_.physics();
+  solver_ = make_pressure_solver(physics);
+  forces_ = make_non_pressure_forces(physics, pressure_solver_entry(scene_.solver).forces);
   // Explicit viscosity is stable for dt <= 0.125 h^2 / nu (Morris, Fox & Zhu, J. Comput. Phys.
   // 136 (1997), eq. 36, with their smoothing length h = half our support radius = one particle
   // spacing). Oil at 4 x water's viscosity needs this: without it an oil layer at rest blew up.
   Real nu_max = scene_.boundary.friction;  // of the particles present, not of unused materials
   for (Real nu : fluid_.viscosity) nu_max = std::max(nu_max, nu);
+  const Real spacing = scene_.particle_diameter();
   if (nu_max > 0) viscous_dt_limit_ = Real(0.125) * spacing * spacing / nu_max;
+  check_initial_positions();
+}
+
+void Simulation::add_initial_fluid(Real volume) {
+  const MaterialsConfig& m = scene_.materials;
+  for (const auto& block : scene_.fluid_blocks) {
+    const PhaseMix mix = mix_phases(block.oil_fraction(), m.water.density, m.water.viscosity,
+                                    m.oil.density, m.oil.viscosity);
+    for (const auto& p : lattice_points(block.min, block.max, scene_.particle_diameter()))
+      fluid_.add(p, block.velocity, volume, mix);
+  }
+  if (scene_.terrain && scene_.terrain->fill_water) fill_terrain_with_water(volume);
+}
+
+void Simulation::add_sources(const std::vector<EmitterConfig>& emitter_configs, Real volume) {
+  const Real spacing = scene_.particle_diameter();
+  const MaterialsConfig& m = scene_.materials;
+  for (size_t k = 0; k < emitter_configs.size(); ++k) {
+    const EmitterConfig& e = emitter_configs[k];
+    try {
+      emitters_.emplace_back(e, spacing, volume,
+                             mix_phases(e.material == "oil" ? 1 : 0, m.water.density,
+                                        m.water.viscosity, m.oil.density, m.oil.viscosity));
+    } catch (const std::invalid_argument& error) {
+      throw SimulationError("emitter " + std::to_string(k) + ": " + error.what());
+    }
+    emitters_.back().allocate(fluid_);
+  }
+  if (!scene_.flow) return;
+  try {
+    flow_ = std::make_unique<RiverFlow>(
+        *scene_.flow, *scene_.terrain_grid, scene_.terrain->water_level, spacing, volume,
+        mix_phases(0, m.water.density, m.water.viscosity, m.oil.density, m.oil.viscosity),
+        double(scene_.output.frame_dt));
+  } catch (const std::invalid_argument& error) {
+    throw SimulationError(std::string("flow: ") + error.what());
+  }
+  flow_->allocate(fluid_);
+}
+
+Aabb Simulation::geometry_domain(const std::vector<EmitterConfig>& emitter_configs) const {
+  Aabb d{fluid_.size() ? fluid_.position[0] : Vec3::Zero(),
+         fluid_.size() ? fluid_.position[0] : Vec3::Zero()};
+  for (const auto& p : boundary_.position) {
+    d.min = d.min.cwiseMin(p);
+    d.max = d.max.cwiseMax(p);
+  }
+  for (const auto& b : scene_.fluid_blocks) {
+    d.min = d.min.cwiseMin(b.min);
+    d.max = d.max.cwiseMax(b.max);
+  }
+  for (const auto& e : emitter_configs) {
+    d.min = d.min.cwiseMin(e.centre);
+    d.max = d.max.cwiseMax(e.centre);
+  }
+  d.min.array() -= scene_.support_radius();
+  d.max.array() += scene_.support_radius();
+  return d;
+}
+
+void Simulation::check_initial_positions() const {
   for (Index i = 0; i < fluid_.active_count(); ++i)
     if (!domain_.contains(fluid_.position[i]))
       throw SimulationError("fluid particle " + std::to_string(i) + " at " +

@@ -1,7 +1,8 @@
 #pragma once
 // Scene description: what a JSON file in configs/scenes/ holds. Every parameter is declared once
 // in a describe() list (name, unit, default, range, description); loading, the resolved copy in
-// metadata.json and docs/scene_reference.md all come from those lists.
+// metadata.json and docs/scene_reference.md all come from those lists. Loading and checking a
+// file is scene_loader.h's; a SceneConfig is plain data.
 
 #include <cmath>
 #include <memory>
@@ -13,59 +14,13 @@
 #include "common/config_section.h"
 #include "sph/boundary/boundary_configs.h"
 #include "sph/core/config.h"
+#include "sph/core/physics_context.h"
 #include "sph/core/types.h"
 #include "sph/river/river_configs.h"
 #include "sph/river/terrain.h"
+#include "sph/solvers/pressure_solver.h"
 
 namespace sph {
-
-std::vector<std::string> pressure_solver_names();  // defined in solver_registry.cpp
-
-struct TimeStepConfig {
-  Real cfl = 1;
-  Real dt_min = Real(1e-5);
-  Real dt_max = Real(0.005);
-  template <class V>
-  void describe(V& v) {
-    v.field("cfl", cfl,
-            param("", "CFL number lambda in dt = lambda * 0.4 * diameter / |v|max")
-                .positive()
-                .at_most(10));
-    v.field("dt_min", dt_min, param("s", "Smallest time step").positive());
-    v.field("dt_max", dt_max, param("s", "Largest time step").positive());
-  }
-  void check(const std::string& file, const std::string& pointer) const {
-    if (dt_min > dt_max)
-      throw ConfigError(
-          file, pointer + "/dt_min",
-          "expected <= dt_max (" + std::to_string(dt_max) + "), got " + std::to_string(dt_min));
-  }
-};
-
-struct FluidMaterialConfig {
-  Real density = 1000;
-  Real viscosity = Real(0.01);
-  template <class V>
-  void describe(V& v) {
-    v.field("density", density, param("kg/m^3", "Rest density").positive());
-    v.field(
-        "viscosity", viscosity,
-        param("m^2/s", "Kinematic viscosity of the SPH Laplacian viscosity force").non_negative());
-  }
-};
-
-// The two fluid phases. A particle carries their volume fractions; its rest density and
-// viscosity are the fraction-weighted mixture (Ren et al. 2014).
-struct MaterialsConfig {
-  FluidMaterialConfig water{1000, Real(0.01)};
-  // The reference crude oil: 0.94 x water's density, 4 x its viscosity.
-  FluidMaterialConfig oil{940, Real(0.04)};
-  template <class V>
-  void describe(V& v) {
-    v.field("water", water, param("", "Water"));
-    v.field("oil", oil, param("", "Oil"));
-  }
-};
 
 // Volume fractions of the phases; they must sum to 1.
 struct FractionsConfig {
@@ -145,6 +100,7 @@ struct SceneConfig {
   BoundaryConfig boundary;
   // The settings of every registered pressure solver and force, each declared beside its code
   // (DfsphConfig in solvers/dfsph_solver.h, ...) under its scene key ("dfsph", "mixture", ...).
+  // Empty in a default-constructed scene: default_scene() (scene_loader.h) adds them.
   common::ConfigSections sections;
   OutputConfig output;
   std::vector<BoxConfig> boxes;
@@ -159,9 +115,6 @@ struct SceneConfig {
   // The terrain's height grid, loaded or generated when the scene is parsed (not a parameter).
   std::shared_ptr<const Terrain> terrain_grid;
 
-  // Default settings, with a section for every registered solver and force.
-  SceneConfig();
-
   // The settings section `key` of a solver or force, as the struct its owner declared.
   template <class T>
   const T& settings(const std::string& key) const {
@@ -170,6 +123,8 @@ struct SceneConfig {
 
   Real particle_diameter() const { return 2 * particle_radius; }
   Real support_radius() const { return support_factor * particle_radius; }
+  // What solvers and forces are built from (sph/core/physics_context.h).
+  PhysicsContext physics() const;
 
   template <class V>
   void describe(V& v) {
@@ -220,20 +175,12 @@ struct SceneConfig {
   }
 };
 
-struct LoadedScene {
-  SceneConfig config;
-  nlohmann::json resolved;  // every parameter, defaults filled in
-  std::string file;
-};
+// The rest volume of every fluid particle of `scene` (m^3): that of its lattice at the particle
+// spacing, so that a block at rest has rest density.
+Real particle_rest_volume(const SceneConfig& scene);
 
-// Loads a scene file, applying `overrides` ("/json/pointer=value"; value parsed as JSON, or taken
-// as a string when it is not JSON) before validation. Throws ConfigError naming file and pointer.
-LoadedScene load_scene(const std::string& file, const std::vector<std::string>& overrides = {});
-
-// Validates an in-memory scene (as load_scene does after parsing). `file` names it in errors.
-LoadedScene parse_scene(nlohmann::json j, const std::string& file);
-
-// The parameter reference of scene files as a Markdown table.
-std::string scene_reference_markdown();
+// The scene's boundary surfaces as sph/boundary/boundary.h samples them: its height fields, then
+// its terrain grid (if any) as one more height field.
+std::vector<HeightFieldConfig> boundary_height_fields(const SceneConfig& scene);
 
 }  // namespace sph

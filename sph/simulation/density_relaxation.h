@@ -13,9 +13,9 @@
 #include <vector>
 
 #include "sph/boundary/boundary.h"
-#include "sph/core/scene.h"
-#include "sph/core/simulation.h"
 #include "sph/neighbours/neighbourhood.h"
+#include "sph/scene/scene.h"
+#include "sph/simulation/simulation.h"
 
 namespace sph {
 

@@ -1,4 +1,4 @@
-#include "sph/neighbours/neighbour_grid.h"
+#include "sph/core/neighbour_grid.h"
 
 #include <omp.h>
 

@@ -1,4 +1,4 @@
-#include "sph/solvers/density_relaxation.h"
+#include "sph/simulation/density_relaxation.h"
 
 #include <algorithm>
 

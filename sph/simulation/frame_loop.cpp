@@ -1,4 +1,4 @@
-#include "sph/app/frame_loop.h"
+#include "sph/simulation/frame_loop.h"
 
 #include <algorithm>
 #include <chrono>

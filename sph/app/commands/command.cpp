@@ -1,0 +1,16 @@
+#include "sph/app/commands/command.h"
+
+#include <omp.h>
+
+#include "sph/core/floating_point.h"
+
+namespace sph {
+
+int use_threads(int requested) {
+  const int n = requested > 0 ? requested : omp_get_num_procs();
+  omp_set_num_threads(n);
+  flush_subnormals_to_zero();
+  return n;
+}
+
+}  // namespace sph

@@ -1,0 +1,208 @@
+#include "sph/generation/dataset_folder.h"
+
+#include <hdf5.h>
+
+#include <memory>
+#include <optional>
+#include <string>
+
+#include "common/checked_file.h"
+#include "common/json_shape.h"
+#include "sph/core/config.h"
+#include "sph/core/simulation_error.h"
+#include "sph/io/trajectory_writer.h"
+#include "sph/scene/scene_loader.h"
+#include "sph/simulation/simulation.h"
+
+namespace sph {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+void write_json_atomically(const fs::path& file, const nlohmann::json& j) {
+  common::write_file_atomically(file, j.dump(2) + "\n");
+}
+
+// A finished trajectory's description, checked key by key: a damaged part file is named with its
+// key (it once failed as a raw JSON type error naming nothing). Deleting the part simulates it
+// again.
+nlohmann::json read_part_info(const fs::path& file) {
+  using common::JsonKind;
+  const std::string name = file.string();
+  const nlohmann::json j = load_json_file(name, "trajectory part description");
+  common::require_json(j, "/parameters", JsonKind::kObject, name);
+  common::require_json(j, "/split", JsonKind::kString, name);
+  if (common::require_json(j, "/frames", JsonKind::kInteger, name).get<long>() < 2)
+    throw ConfigError(name, "/frames", "expected at least 2");
+  for (const char* moments : {"/velocity_moments", "/acceleration_moments"}) {
+    common::require_json(j, std::string(moments) + "/count", JsonKind::kNumber, name);
+    common::require_json(j, std::string(moments) + "/sum", JsonKind::kVector3, name);
+    common::require_json(j, std::string(moments) + "/sum_sq", JsonKind::kVector3, name);
+  }
+  return j;
+}
+
+// The trajectories as part files in parts/, each written frame by frame to a temporary file and
+// renamed when complete; the splits and metadata.json at the end.
+class DatasetFolderSink : public TrajectorySink {
+ public:
+  explicit DatasetFolderSink(fs::path out_dir)
+      : out_dir_(std::move(out_dir)), parts_dir_(out_dir_ / "parts") {}
+
+  void start(const GenerateOptions& o, const std::vector<TrajectoryPlan>&) override {
+    fs::create_directories(parts_dir_);
+    // The whole resolved request: a folder is resumed only by the same request. Comparing the
+    // drawn values alone once let another --frames, --set, --scene, --warm-up or --seed reuse the
+    // old trajectories and rewrite metadata.json for the new settings.
+    nlohmann::json vary = nlohmann::json::array();
+    for (const auto& r : o.vary)
+      vary.push_back({{"pointer", r.pointer}, {"lo", r.lo}, {"hi", r.hi}});
+    const nlohmann::json request = {{"scene", load_scene(o.scene_file, o.overrides).resolved},
+                                    {"vary", vary},
+                                    {"seed", o.seed},
+                                    {"split", o.split},
+                                    {"trajectories", o.trajectories},
+                                    {"frames", o.frames},
+                                    {"warm_up", o.warm_up}};
+    const fs::path request_file = parts_dir_ / "request.json";
+    if (fs::exists(request_file)) {
+      const nlohmann::json stored = load_json_file(request_file.string(), "generation request");
+      const nlohmann::json patch = nlohmann::json::diff(stored, request);
+      if (!patch.empty()) {
+        std::string keys;
+        for (const auto& op : patch)
+          keys += (keys.empty() ? "" : ", ") + op.at("path").get<std::string>();
+        throw ConfigError(request_file.string(), patch[0].at("path").get<std::string>(),
+                          "this folder holds a generation with other settings (" + keys +
+                              " differ); resume it with the same command, or use a fresh --out");
+      }
+    } else {
+      bool earlier_parts = false;
+      for (const auto& e : fs::directory_iterator(parts_dir_))
+        earlier_parts = earlier_parts || e.is_regular_file();
+      if (earlier_parts)
+        throw ConfigError(
+            request_file.string(), "",
+            "missing, beside trajectories of an earlier generation; use a fresh --out");
+      write_json_atomically(request_file, request);
+    }
+  }
+
+  std::optional<nlohmann::json> finished_before(const TrajectoryPlan& p) override {
+    const fs::path info = info_file(p);
+    if (!fs::exists(info) || !fs::exists(part_file(p))) return std::nullopt;
+    nlohmann::json described = read_part_info(info);
+    if (described.at("parameters") != p.parameters || described.at("split") != split_name(p.split))
+      throw ConfigError(info.string(), "/parameters",
+                        "this folder holds another generation (other seed, ranges or split); "
+                        "use a fresh --out");
+    return described;
+  }
+
+  std::string interrupted_note(const TrajectoryPlan& p) const override {
+    return "trajectory " + std::to_string(p.index) +
+           " is not kept; finished trajectories are kept in " + parts_dir_.string();
+  }
+
+  void begin(const Simulation& sim, const TrajectoryPlan& p) override {
+    std::vector<std::int32_t> types(sim.fluid().size());
+    for (Index i = 0; i < sim.fluid().size(); ++i)
+      types[sim.fluid().id[i]] = std::int32_t(sim.fluid().type[i]);
+    writer_ = std::make_unique<TrajectoryWriter>(temporary_file(p).string(), "00000", types,
+                                                 sim.boundary().position);
+  }
+
+  void record(const Simulation& sim) override {
+    const FluidParticles& f = sim.fluid();
+    std::vector<std::uint8_t> active(f.size(), 0);
+    for (Index i = 0; i < f.active_count(); ++i) active[f.id[i]] = 1;
+    writer_->append(sim.time(), sim.in_id_order(f.position), sim.in_id_order(f.velocity), active,
+                    sim.in_id_order(f.oil_fraction));
+  }
+
+  void end(const TrajectoryPlan& p, const nlohmann::json& description) override {
+    writer_->close();
+    writer_.reset();
+    fs::rename(temporary_file(p), part_file(p));
+    write_json_atomically(info_file(p), description);
+  }
+
+  // Nothing half-written stays behind; finished trajectories do.
+  void abandon(const TrajectoryPlan& p) override {
+    writer_.reset();
+    std::error_code ec;
+    fs::remove(temporary_file(p), ec);
+  }
+
+  void finish(const std::vector<TrajectoryPlan>& plan, const nlohmann::json& metadata) override {
+    for (int s = 0; s < 3; ++s) {
+      std::vector<fs::path> members;
+      for (const TrajectoryPlan& p : plan)
+        if (p.split == s) members.push_back(part_file(p));
+      assemble_split(out_dir_ / (std::string(split_name(s)) + ".h5"), members);
+    }
+    write_json_atomically(out_dir_ / "metadata.json", metadata);
+  }
+
+ private:
+  fs::path part_file(const TrajectoryPlan& p) const {
+    return parts_dir_ / ("trajectory_" + group_name(p.index) + ".h5");
+  }
+  fs::path temporary_file(const TrajectoryPlan& p) const { return part_file(p).string() + ".tmp"; }
+  fs::path info_file(const TrajectoryPlan& p) const {
+    return parts_dir_ / ("trajectory_" + group_name(p.index) + ".json");
+  }
+
+  fs::path out_dir_, parts_dir_;
+  std::unique_ptr<TrajectoryWriter> writer_;
+};
+
+}  // namespace
+
+void assemble_split(const fs::path& file, const std::vector<fs::path>& parts) {
+  const fs::path tmp = file.string() + ".tmp";
+  const hid_t out = H5Fcreate(tmp.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+  if (out < 0) throw SimulationError(tmp.string() + ": cannot create");
+  for (size_t k = 0; k < parts.size(); ++k) {
+    const hid_t in = H5Fopen(parts[k].c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+    const herr_t copied =
+        in < 0 ? -1
+               : H5Ocopy(in, "00000", out, group_name(int(k)).c_str(), H5P_DEFAULT, H5P_DEFAULT);
+    if (in >= 0) H5Fclose(in);
+    if (copied < 0) {
+      H5Fclose(out);
+      std::error_code ec;
+      fs::remove(tmp, ec);
+      throw SimulationError(parts[k].string() + ": cannot copy the trajectory into " +
+                            file.string() +
+                            " (a damaged part: delete it to simulate it again; or a full disk)");
+    }
+  }
+  if (H5Fclose(out) < 0) {
+    std::error_code ec;
+    fs::remove(tmp, ec);
+    throw SimulationError(file.string() + ": write failed");
+  }
+  fs::rename(tmp, file);
+}
+
+nlohmann::json generate_dataset(const GenerateOptions& o) {
+  // A folder made by this call that holds no finished trajectory has nothing to resume: it is
+  // removed when generation fails (a full disk once left an empty parts/ behind).
+  const bool new_folder = !fs::exists(o.out_dir);
+  try {
+    DatasetFolderSink sink(o.out_dir);
+    return generate(o, sink);
+  } catch (...) {
+    std::error_code ec;
+    bool finished = false;
+    for (fs::directory_iterator it(o.out_dir / "parts", ec), end; !ec && it != end;
+         it.increment(ec))
+      finished = finished || it->path().extension() == ".h5";
+    if (new_folder && !finished) fs::remove_all(o.out_dir, ec);
+    throw;
+  }
+}
+
+}  // namespace sph

@@ -1,0 +1,30 @@
+#pragma once
+// `spill-sim generate`'s dataset folder: the pipeline (generation.h) writing train.h5, valid.h5,
+// test.h5 (one group per trajectory, "00000", "00001", ... within each file) and metadata.json.
+//
+// Each trajectory is first written to parts/ (its HDF5 file and a JSON of its parameters and
+// statistics, each renamed into place when complete), so an interrupted generation resumes
+// without redoing finished trajectories; parts/request.json holds the whole resolved request, and
+// a folder is resumed only by the same one. The split files are assembled from the parts at the
+// end.
+
+#include <filesystem>
+#include <nlohmann/json.hpp>
+#include <vector>
+
+#include "sph/generation/generation.h"
+
+namespace sph {
+
+// Returns metadata.json's content. Throws ConfigError for a bad scene or pointer or another
+// request in the folder, SimulationError for a failed run, RunInterrupted (frame_loop.h) when
+// `stop` was set. A folder this call made is removed again when it fails before any trajectory
+// is finished.
+nlohmann::json generate_dataset(const GenerateOptions& options);
+
+// Writes a split file holding group "00000" of each of `parts` as groups 00000, 00001, ... in
+// order, atomically (temp file + rename). Throws SimulationError naming the file.
+void assemble_split(const std::filesystem::path& file,
+                    const std::vector<std::filesystem::path>& parts);
+
+}  // namespace sph
