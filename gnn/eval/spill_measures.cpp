@@ -1,5 +1,6 @@
 #include "gnn/eval/spill_measures.h"
 
+#include "sph/scene/scene_loader.h"
 #include "sph/simulation/simulation.h"
 #include "sph/simulation/spill_measurement.h"
 

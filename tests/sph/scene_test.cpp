@@ -346,7 +346,7 @@ TEST(Scene, EveryRegisteredSolverIsChosenByNameWithItsSettings) {
     auto j = minimal_scene();
     j["solver"] = name;
     const LoadedScene s = parse_scene(j, "test.json");
-    EXPECT_EQ(make_pressure_solver(s.config)->name(), name);
+    EXPECT_EQ(make_pressure_solver(s.config.physics())->name(), name);
     for (const auto& section : pressure_solver_entry(name).sections)
       EXPECT_TRUE(s.resolved.contains(section.key)) << name << ": " << section.key;
   }
