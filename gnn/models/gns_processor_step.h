@@ -18,7 +18,7 @@
 // and its element-wise passes (bias, ReLU and its mask, LayerNorm), which are fused. With BLAS
 // on one thread the chunks run side by side on the LibTorch threads, each thread summing its
 // own weight gradients; with more BLAS threads they run in turn and each product uses them.
-// Measured (README, "Speed on this CPU"): a GNS-10-128 step on a 4,096-particle lattice takes
+// Measured (docs/benchmarks.md, "Training"): a GNS-10-128 step on a 4,096-particle lattice takes
 // 2.95 s against 6.57 s through autograd and 6.41 s in the tuned plain-PyTorch reference.
 //
 // The step is the one GnsModel::process computes (gns_model.h): edge update
