@@ -5,145 +5,22 @@
 //   spill-train --config FILE --scene SCENE --trajectories N --out RUN [--vary /pointer=LO:HI ...]
 //               [--seed K] [--split 0.8/0.1/0.1] [--frames F] [--warm-up S]
 //               [--set-scene /pointer=value ...] [--save-data DIR] [--resume] [--threads N] ...
-#include <unistd.h>
-
 #include <CLI/CLI.hpp>
 #include <iostream>
 
 #include "common/command_line.h"
-#include "common/config_error.h"
 #include "common/exit_codes.h"
 #include "common/hdf5_handles.h"
-#include "common/output_folder.h"
-#include "gnn/data/dataset.h"
-#include "gnn/runtime/runtime.h"
-#include "gnn/training/checkpoint.h"
-#include "train/scene_data.h"
-#include "train/trainer.h"
+#include "train/command_line.h"
 
 int main(int argc, char** argv) {
   common::skip_hdf5_exit_handler();
   CLI::App app{"Train a learned particle simulator (GNS) on spill trajectories"};
-  train::TrainerOptions options;
-  int threads = 2;
-  int blas_threads = 0;
-  app.add_option("--config", options.config_file, "training config (configs/training/*.json)")
-      ->required()
-      ->check(CLI::ExistingFile);
-  auto* source = app.add_option_group("data", "Where the trajectories come from");
-  auto* data_option =
-      source
-          ->add_option("--data", options.data_dir,
-                       "dataset folder (metadata.json, train.h5, valid.h5) from spill-sim generate")
-          ->check(CLI::ExistingDirectory);
-  train::SceneDataOptions scene;
-  std::string split = "0.8/0.1/0.1";
-  std::vector<std::string> vary;
-  auto* scene_option = source->add_option(
-      "--scene", scene.generate.scene_file,
-      "scene JSON file: simulate the training, validation and test trajectories in this process, "
-      "as `spill-sim generate` would with the options below, and train on them without a file");
-  source->require_option(1);
-  data_option->excludes(scene_option);
-  scene_option->excludes(data_option);
-  // The options of `spill-sim generate`, with the same names and meanings.
-  auto* generate = app.add_option_group(
-      "with --scene", "spill-sim generate's options, with the same names and meanings");
-  auto* trajectories =
-      generate->add_option("--trajectories", scene.generate.trajectories, "number of trajectories")
-          ->check(CLI::PositiveNumber);
-  scene_option->needs(trajectories);
-  std::vector<CLI::Option*> scene_only = {trajectories};
-  scene_only.push_back(
-      generate->add_option("--vary", vary, "draw a scene value per trajectory: /pointer=LO:HI"));
-  scene_only.push_back(generate
-                           ->add_option("--seed", scene.generate.seed,
-                                        "seed of the --vary draws (the training seed is the "
-                                        "training config's /seed)")
-                           ->capture_default_str());
-  scene_only.push_back(
-      generate->add_option("--split", split, "train/valid/test fractions of the trajectories")
-          ->capture_default_str());
-  scene_only.push_back(
-      generate
-          ->add_option("--frames", scene.generate.frames,
-                       "recorded frames per trajectory after the warm-up (default: to the end)")
-          ->check(CLI::PositiveNumber));
-  scene_only.push_back(
-      generate
-          ->add_option("--warm-up", scene.generate.warm_up,
-                       "seconds simulated before recording (default: the first leak's start)")
-          ->check(CLI::NonNegativeNumber));
-  scene_only.push_back(generate->add_option(
-      "--set-scene", scene.generate.overrides,
-      "override a scene value: /json/pointer=value (spill-sim generate's --set)"));
-  scene_only.push_back(generate->add_option(
-      "--save-data", scene.save_dir,
-      "also write the simulated trajectories to this new folder as a dataset (metadata.json, "
-      "train.h5, valid.h5, test.h5), the files spill-sim generate writes"));
-  for (CLI::Option* o : scene_only) o->needs(scene_option);
-  app.add_option("--out", options.out_dir, "run folder: log.csv, loss.svg, last.pt")->required();
-  app.add_option("--teacher", options.teacher,
-                 "distil a PAGATNet student from this frozen PAGATNet checkpoint (RUN/last.pt "
-                 "of the teacher's run, trained on the same data)");
-  app.add_flag("--resume", options.resume,
-               "continue from RUN/last.pt (with --scene the data are simulated again from the "
-               "same seed and must come out bit-identical: on --threads 1)");
-  app.add_option("--threads", threads,
-                 "cores to use (also by the --scene simulation; 1 makes its data "
-                 "bit-reproducible); the LibTorch/BLAS split is chosen for the model (see "
-                 "training_runtime in gnn/runtime/runtime.h) unless --blas-threads is given")
-      ->check(CLI::PositiveNumber);
-  app.add_option("--blas-threads", blas_threads,
-                 "OpenBLAS threads, with --threads LibTorch threads (default: the measured best "
-                 "split for the model)")
-      ->check(CLI::PositiveNumber);
-  app.add_option("--set", options.overrides,
-                 "override a training config value: /pointer=value (e.g. /steps=200, "
-                 "/model/latent=64)");
-  std::string device = "cpu";
-  app.add_option("--device", device, "where the model trains: cpu (default) or cuda[:N]");
-  app.footer(
-      "With --scene the trajectories are simulated in this process, as `spill-sim generate` "
-      "simulates them for the same options (the same draws from --seed, splits, warm-up and "
-      "normalisation statistics), and trained on as on that dataset with --data, without a file "
-      "(unless --save-data). Progress is shown per trajectory; a bad scene, --vary pointer or "
-      "--save-data folder exits 2 before anything is simulated or written. --resume simulates "
-      "them again and goes on only when they come out bit-identical (on --threads 1 they do).");
+  train::TrainCommandLine command;
+  train::add_training_options(app, command);
   if (const auto stop = common::parse_command_line(app, argc, argv)) return *stop;
-  gnn::configure_runtime({threads, blas_threads});
-  options.log = &std::cerr;
-  options.terminal = isatty(2);
   try {
-    options.out_dir = common::normalise_output_path(options.out_dir).string();
-    options.device = gnn::parse_device(device);
-    std::unique_ptr<train::Trainer> trainer;
-    if (*scene_option) {
-      for (const auto& v : vary) scene.generate.vary.push_back(sph::parse_parameter_range(v));
-      scene.generate.split = sph::parse_split(split);
-      scene.generate.threads = threads;
-      scene.generate.log = &std::cerr;
-      if (!scene.save_dir.empty() &&
-          common::normalise_output_path(scene.save_dir).string() == options.out_dir)
-        throw common::InputError("--save-data " + scene.save_dir + ": is the run folder (--out)");
-      // The simulation runs on all --threads (configure_runtime set OpenMP's count; the recorder
-      // keeps it through LibTorch's first operation); the training's own split comes after.
-      trainer = std::make_unique<train::Trainer>(
-          options, [&] { return train::simulate_training_data(scene, options); });
-    } else {
-      trainer = std::make_unique<train::Trainer>(options);
-    }
-    if (blas_threads == 0) {
-      const gnn::GraphModel& model = trainer->simulator().model();
-      const gnn::RuntimeSettings mix = gnn::training_runtime(threads, model.trains_in_chunks());
-      gnn::configure_runtime(mix);
-      std::cerr << "threads: " << mix.threads << " LibTorch, " << mix.blas_threads
-                << " BLAS (the measured best split for " << model.name() << " on " << threads
-                << ")\n";
-    }
-    const double loss = trainer->run();
-    std::cout << "trained to step " << trainer->step() << ", loss " << loss << "; run in "
-              << options.out_dir << "\n";
+    train::run_training(command);
   } catch (const std::exception& e) {
     return common::report_error(std::cerr, "spill-train", e);
   }

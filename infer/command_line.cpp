@@ -1,0 +1,98 @@
+#include "infer/command_line.h"
+
+namespace infer {
+
+namespace {
+void add_common(CLI::App* c, CommonOptions& o) {
+  c->add_option("--checkpoint", o.checkpoint, "checkpoint (*.pt) written by spill-train")
+      ->required();
+  c->add_option("--data", o.data_dir, "dataset folder (metadata.json and <split>.h5)")
+      ->required()
+      ->check(CLI::ExistingDirectory);
+  c->add_option("--split", o.split, "split to run on")
+      ->check(CLI::IsMember({"train", "valid", "test"}));
+  c->add_option("--out", o.out_dir, "output folder")->required();
+  c->add_option("--threads", o.threads,
+                "cores to use; the LibTorch/BLAS split is chosen for the model (see "
+                "inference_runtime in gnn/runtime/runtime.h) unless --blas-threads is given")
+      ->check(CLI::PositiveNumber);
+  c->add_option("--blas-threads", o.blas_threads,
+                "OpenBLAS threads, with --threads LibTorch threads (default: the measured best "
+                "split for the model)")
+      ->check(CLI::PositiveNumber);
+  c->add_option("--device", o.device, "where the model runs: cpu (default) or cuda[:N]");
+  c->add_option("--relax", o.relax,
+                "after each learned frame, this many iterations of the simulator's "
+                "constant-density correction on the predicted positions (default 0: off)")
+      ->check(CLI::NonNegativeNumber);
+}
+}  // namespace
+
+CLI::App* add_rollout_command(CLI::App& app, RolloutOptions& rollout) {
+  auto* r = app.add_subcommand("rollout", "predict a trajectory and draw it beside the truth");
+  add_common(r, rollout.common);
+  r->add_option("--trajectory", rollout.trajectory, "trajectory index in the split")
+      ->check(CLI::NonNegativeNumber);
+  r->add_option("--from", rollout.from, "recorded frame to start from")
+      ->check(CLI::NonNegativeNumber);
+  r->add_option("--frames", rollout.frames, "frames to predict (default: to the end)")
+      ->check(CLI::PositiveNumber);
+  r->add_option("--png-every", rollout.png_every, "draw every n-th frame")
+      ->check(CLI::PositiveNumber);
+  return r;
+}
+
+CLI::App* add_eval_command(CLI::App& app, EvalOptions& eval) {
+  auto* e = app.add_subcommand("eval", "accuracy and speed over every trajectory of a split");
+  add_common(e, eval.common);
+  e->add_option("--from", eval.from, "recorded frame each rollout starts from")
+      ->check(CLI::NonNegativeNumber);
+  e->add_option("--frames", eval.frames, "frames per rollout (default: to the end)")
+      ->check(CLI::PositiveNumber);
+  return e;
+}
+
+CLI::App* add_compare_command(CLI::App& app, CompareOptions& compare) {
+  auto* c = app.add_subcommand(
+      "compare", "several models (and the constant-velocity floor) on the same trajectories");
+  c->add_option("--checkpoints", compare.checkpoints, "checkpoints (*.pt) written by spill-train")
+      ->check(CLI::ExistingFile);
+  c->add_flag("--constant-velocity", compare.constant_velocity,
+              "add the constant-velocity floor (every particle keeps its last velocity)");
+  c->add_option("--data", compare.data_dir, "dataset folder (metadata.json and <split>.h5)")
+      ->required()
+      ->check(CLI::ExistingDirectory);
+  c->add_option("--split", compare.split, "split to run on")
+      ->check(CLI::IsMember({"train", "valid", "test"}));
+  c->add_option("--out", compare.out_dir, "output folder")->required();
+  c->add_option("--from", compare.from, "recorded frame each rollout starts from")
+      ->check(CLI::NonNegativeNumber);
+  c->add_option("--frames", compare.frames, "frames per rollout (default: to the end)")
+      ->check(CLI::PositiveNumber);
+  c->add_option("--threads", compare.threads,
+                "cores to use; each model gets its measured best LibTorch/BLAS split unless "
+                "--blas-threads is given")
+      ->check(CLI::PositiveNumber);
+  c->add_option("--blas-threads", compare.blas_threads, "OpenBLAS threads for every model")
+      ->check(CLI::PositiveNumber);
+  c->add_option("--device", compare.device, "where the models run: cpu (default) or cuda[:N]");
+  c->add_option("--relax", compare.relax,
+                "after each learned frame, this many iterations of the simulator's "
+                "constant-density correction on the predicted positions (default 0: off)")
+      ->check(CLI::NonNegativeNumber);
+  return c;
+}
+
+CLI::App* add_export_command(CLI::App& app, ExportOptions& o) {
+  auto* x = app.add_subcommand(
+      "export", "a weights-only copy of a checkpoint (no optimiser state), to share or commit");
+  x->add_option("--checkpoint", o.from, "checkpoint (*.pt) written by spill-train")
+      ->required()
+      ->check(CLI::ExistingFile);
+  x->add_option("--out", o.to, "the copy (*.pt); training cannot resume from it")->required();
+  x->add_flag("--force", o.force,
+              "replace an existing --out, only if it is itself a checkpoint (atomically)");
+  return x;
+}
+
+}  // namespace infer
