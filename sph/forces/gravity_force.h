@@ -1,6 +1,7 @@
 #pragma once
 // Uniform gravity.
 
+#include "sph/core/particle_loops.h"
 #include "sph/forces/non_pressure_force.h"
 
 namespace sph {
@@ -19,9 +20,8 @@ class GravityForce : public NonPressureForce {
   std::string name() const override { return "gravity"; }
   void add_acceleration(FluidParticles& fluid, const BoundaryParticles&,
                         const ParticleNeighbourhood&, Real) override {
-    const long n = long(fluid.active_count());
-#pragma omp parallel for schedule(static)
-    for (long i = 0; i < n; ++i) fluid.acceleration[size_t(i)] += g_;
+    for_each_active(
+        fluid, [&](Index i) { fluid.acceleration[i] += g_; }, Schedule::kStatic);
   }
 
  private:

@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "sph/core/lattice.h"
+#include "sph/core/particle_loops.h"
 
 namespace sph {
 
@@ -117,7 +118,6 @@ SurfaceTensionForce::SurfaceTensionForce(const SurfaceTensionConfig& config, Rea
 
 void SurfaceTensionForce::add_acceleration(FluidParticles& fluid, const BoundaryParticles& boundary,
                                            const ParticleNeighbourhood& nb, Real) {
-  const long n = long(fluid.active_count());
   if (law_.empty() || law_kernel_ != nb.kernel() || law_support_radius_ != nb.support_radius())
     tabulate_pair_law(nb.kernel(), nb.support_radius());
   const Real* law = law_.data();
@@ -134,15 +134,13 @@ void SurfaceTensionForce::add_acceleration(FluidParticles& fluid, const Boundary
   const ParticleType* type = fluid.type.data();
   const Real s_water = strengths_.water, s_oil = strengths_.oil, s_mixed = strengths_.oil_water;
   const Real s_wall = config_.boundary;
-#pragma omp parallel for schedule(dynamic, 64)
-  for (long li = 0; li < n; ++li) {
-    const Index i = Index(li);
+  for_each_active(fluid, [&](Index i) {
     const auto& ff = nb.fluid;
     const Index begin = ff.lists.offsets[i], end = ff.lists.offsets[i + 1];
     if (config_.surface_only) {
       bool acts = end - begin + nb.boundary.lists.count(i) < surface_neighbour_count_;
       for (Index k = begin; k < end && !acts; ++k) acts = type[ff.lists.indices[k]] != type[i];
-      if (!acts) continue;
+      if (!acts) return;
     }
     Vec3 a = Vec3::Zero();
     for (Index k = begin; k < end; ++k) {
@@ -158,7 +156,7 @@ void SurfaceTensionForce::add_acceleration(FluidParticles& fluid, const Boundary
       });
     }
     fluid.acceleration[i] += (reference_density_ / fluid.rest_density[i]) * a;
-  }
+  });
 }
 
 }  // namespace sph

@@ -1,5 +1,7 @@
 #include "sph/forces/viscosity_force.h"
 
+#include "sph/core/particle_loops.h"
+
 namespace sph {
 
 NonPressureForceEntry ViscosityForce::entry() {
@@ -16,16 +18,13 @@ NonPressureForceEntry ViscosityForce::entry() {
 
 void ViscosityForce::add_acceleration(FluidParticles& fluid, const BoundaryParticles& boundary,
                                       const ParticleNeighbourhood& nb, Real) {
-  const long n = long(fluid.active_count());
   const Real h = nb.support_radius();
   const Real eps = Real(0.01) * h * h;
   const Real c = Real(2 * (3 + 2)) * Real(0.5);  // 2 (d + 2) times the 1/2 of the pair mean
   const Real cb = Real(2 * (3 + 2)) * nu_boundary_;
   const Vec3* x = fluid.position.data();
   const Vec3* v = fluid.velocity.data();
-#pragma omp parallel for schedule(dynamic, 64)
-  for (long li = 0; li < n; ++li) {
-    const Index i = Index(li);
+  for_each_active(fluid, [&](Index i) {
     Vec3 a = Vec3::Zero();
     {
       nb.fluid.for_each(i, [&](Index j, Index k) {
@@ -47,7 +46,7 @@ void ViscosityForce::add_acceleration(FluidParticles& fluid, const BoundaryParti
       });
     }
     fluid.acceleration[i] += a;
-  }
+  });
 }
 
 }  // namespace sph

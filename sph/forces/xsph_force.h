@@ -4,6 +4,7 @@
 // mean density rho_ij (Monaghan's symmetric form, which conserves momentum), applied as the
 // acceleration that produces this change over the coming step.
 
+#include "sph/core/particle_loops.h"
 #include "sph/forces/non_pressure_force.h"
 
 namespace sph {
@@ -23,12 +24,9 @@ class XsphForce : public NonPressureForce {
   std::string name() const override { return "xsph"; }
   void add_acceleration(FluidParticles& fluid, const BoundaryParticles&,
                         const ParticleNeighbourhood& nb, Real dt) override {
-    const long n = long(fluid.active_count());
     const Real scale = c_ / dt;
     const Vec3* v = fluid.velocity.data();
-#pragma omp parallel for schedule(dynamic, 64)
-    for (long li = 0; li < n; ++li) {
-      const Index i = Index(li);
+    for_each_active(fluid, [&](Index i) {
       Vec3 dv = Vec3::Zero();
       nb.fluid.for_each(i, [&](Index j, Index k) {
         const Real mean_density = fluid.pair_mean_density(i, j);
@@ -36,7 +34,7 @@ class XsphForce : public NonPressureForce {
               (v[j] - v[i]);
       });
       fluid.acceleration[i] += scale * dv;
-    }
+    });
   }
 
  private:

@@ -9,6 +9,7 @@
 
 #include "common/stopwatch.h"
 #include "sph/core/config.h"
+#include "sph/core/particle_loops.h"
 #include "sph/core/simulation_error.h"
 
 namespace sph {
@@ -188,9 +189,8 @@ Real Simulation::choose_time_step(Real solver_limit) {
 }
 
 void Simulation::compute_non_pressure_accelerations(Real dt) {
-  const long n = long(fluid_.active_count());
-#pragma omp parallel for schedule(static)
-  for (long i = 0; i < n; ++i) fluid_.acceleration[size_t(i)].setZero();
+  for_each_active(
+      fluid_, [&](Index i) { fluid_.acceleration[i].setZero(); }, Schedule::kStatic);
   for (auto& force : forces_) {
     const auto t0 = std::chrono::steady_clock::now();
     force->add_acceleration(fluid_, boundary_, *neighbourhood_, dt);

@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "common/stopwatch.h"
+#include "sph/core/particle_loops.h"
 #include "sph/solvers/pressure_terms.h"
 
 namespace sph {
@@ -66,18 +67,13 @@ int DfsphSolver::solve(FluidParticles& fluid, const ParticleNeighbourhood& nb, R
   }
   int iterations = 0;
   while (true) {
-    double sum = 0;
-    Real largest = 0;
-#pragma omp parallel for schedule(dynamic, 64) reduction(+ : sum) reduction(max : largest)
-    for (long li = 0; li < n; ++li) {
-      const Index i = Index(li);
+    const SumAndLargest errors = sum_and_largest(Index(n), [&](Index i) {
       const Real error = predicted_error(i);  // >= 0: relative compression after this step
       s_[i] = error * alpha_[i];
-      sum += double(error);
-      largest = std::max(largest, error);
-    }
-    error_avg = sum / double(n);
-    error_max = double(largest);
+      return Contribution{error, error};
+    });
+    error_avg = errors.sum / double(n);
+    error_max = double(errors.largest);
     if ((error_avg <= tolerance && iterations >= min_iterations) ||
         iterations >= config_.max_iterations)
       break;
@@ -131,7 +127,6 @@ void DfsphSolver::step(SolverHost& host, StepStats& stats) {
 
   host.update_neighbourhood();
   const ParticleNeighbourhood& nb = host.neighbourhood();
-  const long n = long(fluid.active_count());
   after_neighbour_search(host);
 
   auto t0 = std::chrono::steady_clock::now();
@@ -146,8 +141,7 @@ void DfsphSolver::step(SolverHost& host, StepStats& stats) {
   const Real dt = host.choose_time_step(std::numeric_limits<Real>::infinity());
   host.compute_non_pressure_accelerations(dt);
   after_non_pressure_forces(host, dt);
-#pragma omp parallel for schedule(dynamic, 64)
-  for (long i = 0; i < n; ++i) fluid.velocity[size_t(i)] += dt * fluid.acceleration[size_t(i)];
+  for_each_active(fluid, [&](Index i) { fluid.velocity[i] += dt * fluid.acceleration[i]; });
 
   t0 = std::chrono::steady_clock::now();
   stats.iterations_density = solve_density(fluid, nb, dt, stats);
@@ -155,13 +149,11 @@ void DfsphSolver::step(SolverHost& host, StepStats& stats) {
 
   // Pressure for output: p = rho_ref (rho/rho0)^2 kappa with kappa = s / dt^2 of each solve.
   const Real inv_dt2 = Real(1) / (dt * dt), inv_dt2_div = Real(1) / (last_dt_ * last_dt_);
-#pragma omp parallel for schedule(dynamic, 64)
-  for (long li = 0; li < n; ++li) {
-    const size_t i = size_t(li);
+  for_each_active(fluid, [&](Index i) {
     fluid.position[i] += dt * fluid.velocity[i];
     const Real kappa = stiffness_density_[i] * inv_dt2 + stiffness_divergence_[i] * inv_dt2_div;
     fluid.pressure[i] = reference_density_ * fluid.density[i] * fluid.density[i] * kappa;
-  }
+  });
   stats.dt = dt;
   last_dt_ = dt;
   after_advection(host, dt);

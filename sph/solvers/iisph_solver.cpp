@@ -5,6 +5,7 @@
 #include <limits>
 
 #include "common/stopwatch.h"
+#include "sph/core/particle_loops.h"
 #include "sph/solvers/pressure_terms.h"
 
 namespace sph {
@@ -51,17 +52,11 @@ void IisphSolver::step(SolverHost& host, StepStats& stats) {
 
   t0 = std::chrono::steady_clock::now();
   const Real relax = std::min(Real(1), dt / config_.density_relaxation_time);
-#pragma omp parallel for schedule(dynamic, 64)
-  for (long li = 0; li < count; ++li) {
-    const size_t i = size_t(li);
-    fluid.velocity[i] += dt * fluid.acceleration[i];
-  }
-#pragma omp parallel for schedule(dynamic, 64)
-  for (long li = 0; li < count; ++li) {
-    const Index i = Index(li);
+  for_each_active(fluid, [&](Index i) { fluid.velocity[i] += dt * fluid.acceleration[i]; });
+  for_each_active(fluid, [&](Index i) {
     source_[i] = relax * (fluid.density[i] - Real(1)) +
                  dt * pressure_terms::density_rate(i, fluid.velocity.data(), nb);
-  }
+  });
   for (long li = 0; li < count; ++li)
     stiffness_[size_t(li)] = config_.warm_start ? Real(0.5) * stiffness_[size_t(li)] : Real(0);
 
@@ -75,17 +70,12 @@ void IisphSolver::step(SolverHost& host, StepStats& stats) {
         nb, stiffness_, density_ratio_, dt, n,
         [&](Index i, const Vec3& dv) { pressure_dv_[i] = dv; });
     if (count == 0) break;
-    double sum = 0;
-    Real largest = 0;
-#pragma omp parallel for schedule(dynamic, 64) reduction(+ : sum) reduction(max : largest)
-    for (long li = 0; li < count; ++li) {
-      const Index i = Index(li);
+    const SumAndLargest errors = sum_and_largest(n, [&](Index i) {
       error_[i] = source_[i] + dt * pressure_terms::density_rate(i, pressure_dv_.data(), nb);
-      sum += double(std::max(error_[i], Real(0)));
-      largest = std::max(largest, error_[i]);
-    }
-    error_avg = sum / double(count);
-    error_max = largest;
+      return Contribution{std::max(error_[i], Real(0)), error_[i]};
+    });
+    error_avg = errors.sum / double(count);
+    error_max = errors.largest;
     if ((error_avg <= tolerance && iterations >= config_.min_iterations) ||
         iterations >= config_.max_iterations)
       break;
@@ -103,14 +93,12 @@ void IisphSolver::step(SolverHost& host, StepStats& stats) {
   stats.dt = dt;
 
   const Real inv_dt2 = Real(1) / (dt * dt);
-#pragma omp parallel for schedule(dynamic, 64)
-  for (long li = 0; li < count; ++li) {
-    const size_t i = size_t(li);
+  for_each_active(fluid, [&](Index i) {
     fluid.velocity[i] += pressure_dv_[i];
     fluid.position[i] += dt * fluid.velocity[i];
     fluid.pressure[i] =
         reference_density_ * fluid.density[i] * fluid.density[i] * stiffness_[i] * inv_dt2;
-  }
+  });
 }
 
 }  // namespace sph

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "sph/core/particle_loops.h"
+
 namespace sph {
 
 namespace {
@@ -64,16 +66,14 @@ void MixtureModel::compute_drift(const FluidParticles& fluid, const ParticleNeig
   const Real tau = config_.drift_tau, sigma = config_.diffusion_sigma;
   // A particle takes part when it is mixed or a neighbour's composition differs from its own;
   // the drift of one that does is computed at once, while its neighbours are in cache.
-#pragma omp parallel for schedule(dynamic, 64)
-  for (long li = 0; li < n; ++li) {
-    const Index i = Index(li);
+  for_each_active(fluid, [&](Index i) {
     const Real ai = alpha[i];
     bool differs = ai > 0 && ai < 1;
     const auto& ff = nb.fluid;
     for (Index k = ff.lists.offsets[i]; k < ff.lists.offsets[i + 1] && !differs; ++k)
       differs = alpha[ff.lists.indices[k]] != ai;
     is_interface_[i] = differs ? 1 : 0;
-    if (!differs) continue;
+    if (!differs) return;
     Vec3 grad_alpha = Vec3::Zero();
     Real kernel_sum = fluid.rest_volume[i] * nb.kernel_at_zero(),
          density_sum = kernel_sum * fluid.rest_density[i];
@@ -115,7 +115,7 @@ void MixtureModel::compute_drift(const FluidParticles& fluid, const ParticleNeig
     if (ai > kTinyFraction) stress.add_outer(j_oil * std::sqrt(rho_o / ai));
     if (1 - ai > kTinyFraction) stress.add_outer(j_water * std::sqrt(rho_w / (1 - ai)));
     drift_stress_[i] = stress;
-  }
+  });
   interface_.clear();
   for (long i = 0; i < n; ++i)
     if (is_interface_[size_t(i)]) interface_.push_back(Index(i));
@@ -281,16 +281,17 @@ void MixtureModel::transport(FluidParticles& fluid, const ParticleNeighbourhood&
   // Dv/Dt of this step for the next step's slip term.
   const long n = long(fluid.active_count());
   const Real inv_dt = Real(1) / dt;
-#pragma omp parallel for schedule(static)
-  for (long li = 0; li < n; ++li) {
-    const size_t i = size_t(li);
-    // A particle new to this slot (just emitted) has no rate yet.
-    velocity_rate_[i] = step_start_id_[i] == fluid.id[i]
-                            ? Vec3((fluid.velocity[i] - step_start_velocity_[i]) * inv_dt)
-                            : Vec3::Zero();
-    step_start_velocity_[i] = fluid.velocity[i];
-    step_start_id_[i] = fluid.id[i];
-  }
+  for_each_particle(
+      n,
+      [&](Index i) {
+        // A particle new to this slot (just emitted) has no rate yet.
+        velocity_rate_[i] = step_start_id_[i] == fluid.id[i]
+                                ? Vec3((fluid.velocity[i] - step_start_velocity_[i]) * inv_dt)
+                                : Vec3::Zero();
+        step_start_velocity_[i] = fluid.velocity[i];
+        step_start_id_[i] = fluid.id[i];
+      },
+      Schedule::kStatic);
 }
 
 }  // namespace sph

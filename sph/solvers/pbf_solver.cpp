@@ -7,6 +7,7 @@
 #include <limits>
 
 #include "common/stopwatch.h"
+#include "sph/core/particle_loops.h"
 #include "sph/solvers/pressure_terms.h"
 
 namespace sph {
@@ -27,13 +28,10 @@ PbfSolver::PbfSolver(const PbfConfig& config, Real particle_diameter, Real refer
 
 void PbfSolver::project_constraints(FluidParticles& fluid, const ParticleNeighbourhood& nb,
                                     bool fresh_kernels) {
-  const long n = long(fluid.active_count());
   const Real epsilon = config_.relaxation_epsilon / (diameter_ * diameter_);
   const Real tiny = pressure_terms::smallest_factor_denominator(nb);
   // lambda_i = -C_i / (1/alpha_i + epsilon), with 1/alpha_i from pressure_terms.h.
-#pragma omp parallel for schedule(dynamic, 64)
-  for (long li = 0; li < n; ++li) {
-    const Index i = Index(li);
+  for_each_active(fluid, [&](Index i) {
     if (fresh_kernels) {
       denominator_[i] = pressure_terms::factor_denominator(i, nb, density_ratio_);
     } else {
@@ -45,7 +43,7 @@ void PbfSolver::project_constraints(FluidParticles& fluid, const ParticleNeighbo
     const Real lambda = c > 0 && denominator_[i] > tiny ? -c / (denominator_[i] + epsilon) : 0;
     lambda_[i] = lambda;
     stiffness_[i] -= lambda;
-  }
+  });
 
   const Real k = config_.tensile_k * diameter_ * diameter_;
   const Real w_delta_q = with_kernel(nb.kernel(), nb.support_radius(), [&](const auto& w) {
@@ -61,9 +59,7 @@ void PbfSolver::project_constraints(FluidParticles& fluid, const ParticleNeighbo
     return p;
   };
   const bool tensile = k > 0;
-#pragma omp parallel for schedule(dynamic, 64)
-  for (long li = 0; li < n; ++li) {
-    const Index i = Index(li);
+  for_each_active(fluid, [&](Index i) {
     const Real lambda_i = lambda_[i];
     Vec3 dx = lambda_i * nb.boundary_gradient_sum[i];
     nb.fluid.for_each(i, [&](Index j, Index kk) {
@@ -72,9 +68,9 @@ void PbfSolver::project_constraints(FluidParticles& fluid, const ParticleNeighbo
       dx += s * nb.fluid.gradient[kk];
     });
     correction_[i] = density_ratio_[i] * dx;
-  }
-#pragma omp parallel for schedule(static)
-  for (long li = 0; li < n; ++li) fluid.position[size_t(li)] += correction_[size_t(li)];
+  });
+  for_each_active(
+      fluid, [&](Index i) { fluid.position[i] += correction_[i]; }, Schedule::kStatic);
 }
 
 void PbfSolver::filter_velocities(FluidParticles& fluid, const ParticleNeighbourhood& nb, Real dt) {
@@ -82,18 +78,14 @@ void PbfSolver::filter_velocities(FluidParticles& fluid, const ParticleNeighbour
   const Vec3* v = fluid.velocity.data();
   const bool confine = config_.vorticity_confinement > 0;
   if (confine) {
-#pragma omp parallel for schedule(dynamic, 64)
-    for (long li = 0; li < n; ++li) {
-      const Index i = Index(li);
+    for_each_active(fluid, [&](Index i) {
       Vec3 w = Vec3::Zero();
       nb.fluid.for_each(i, [&](Index j, Index k) { w += nb.fluid.gradient[k].cross(v[j] - v[i]); });
       vorticity_[i] = w;
-    }
+    });
   }
   const Real c = config_.xsph;
-#pragma omp parallel for schedule(dynamic, 64)
-  for (long li = 0; li < n; ++li) {
-    const Index i = Index(li);
+  for_each_active(fluid, [&](Index i) {
     Vec3 smoothing = Vec3::Zero();
     Vec3 eta = Vec3::Zero();
     const Real wi = confine ? vorticity_[i].norm() : Real(0);
@@ -106,7 +98,7 @@ void PbfSolver::filter_velocities(FluidParticles& fluid, const ParticleNeighbour
     if (confine && eta_norm > Real(1e-12))
       dv += dt * config_.vorticity_confinement * (eta / eta_norm).cross(vorticity_[i]);
     new_velocity_[i] = v[i] + dv;
-  }
+  });
   std::copy(new_velocity_.begin(), new_velocity_.begin() + n, fluid.velocity.begin());
 }
 
@@ -136,14 +128,15 @@ void PbfSolver::step(SolverHost& host, StepStats& stats) {
 
   auto t0 = std::chrono::steady_clock::now();
   pressure_terms::density_ratios(fluid, reference_density_, density_ratio_);
-#pragma omp parallel for schedule(static)
-  for (long li = 0; li < count; ++li) {
-    const size_t i = size_t(li);
-    old_position_[i] = fluid.position[i];
-    fluid.velocity[i] += dt * fluid.acceleration[i];
-    fluid.position[i] += dt * fluid.velocity[i];
-    stiffness_[i] = 0;
-  }
+  for_each_particle(
+      Index(count),
+      [&](Index i) {
+        old_position_[i] = fluid.position[i];
+        fluid.velocity[i] += dt * fluid.acceleration[i];
+        fluid.position[i] += dt * fluid.velocity[i];
+        stiffness_[i] = 0;
+      },
+      Schedule::kStatic);
   host.time_split().pressure_solve += common::seconds_since(t0);
 
   // Constraints at the predicted positions.
@@ -160,18 +153,16 @@ void PbfSolver::step(SolverHost& host, StepStats& stats) {
 
   t0 = std::chrono::steady_clock::now();
   const Real inv_dt = Real(1) / dt, inv_dt2 = inv_dt * inv_dt;
-  double sum = 0;
-  Real largest = 0;
-#pragma omp parallel for schedule(static) reduction(+ : sum) reduction(max : largest)
-  for (long li = 0; li < count; ++li) {
-    const size_t i = size_t(li);
-    fluid.velocity[i] = (fluid.position[i] - old_position_[i]) * inv_dt;
-    fluid.pressure[i] =
-        reference_density_ * fluid.density[i] * fluid.density[i] * stiffness_[i] * inv_dt2;
-    const Real error = std::max(fluid.density[i] - Real(1), Real(0));
-    sum += double(error);
-    largest = std::max(largest, error);
-  }
+  const SumAndLargest errors = sum_and_largest(
+      n,
+      [&](Index i) {
+        fluid.velocity[i] = (fluid.position[i] - old_position_[i]) * inv_dt;
+        fluid.pressure[i] =
+            reference_density_ * fluid.density[i] * fluid.density[i] * stiffness_[i] * inv_dt2;
+        const Real error = std::max(fluid.density[i] - Real(1), Real(0));
+        return Contribution{error, error};
+      },
+      Schedule::kStatic);
   if (config_.xsph > 0 || config_.vorticity_confinement > 0) filter_velocities(fluid, nb, dt);
   end_position_.assign(fluid.position.begin(), fluid.position.begin() + count);
   host.time_split().pressure_solve += common::seconds_since(t0);
@@ -179,8 +170,8 @@ void PbfSolver::step(SolverHost& host, StepStats& stats) {
   stats.dt = dt;
   stats.iterations_density = config_.iterations;
   stats.iterations_divergence = 0;
-  stats.density_error_avg = count > 0 ? sum / double(count) : 0;
-  stats.density_error_max = double(largest);
+  stats.density_error_avg = count > 0 ? errors.sum / double(count) : 0;
+  stats.density_error_max = double(errors.largest);
 }
 
 }  // namespace sph

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "common/stopwatch.h"
+#include "sph/core/particle_loops.h"
 
 namespace sph {
 
@@ -28,7 +29,6 @@ void PfsphSolver::after_non_pressure_forces(SolverHost& host, Real) {
   FluidParticles& fluid = host.mutable_fluid();
   const ParticleNeighbourhood& nb = host.neighbourhood();
   const BoundaryParticles& boundary = host.boundary();
-  const long n = long(fluid.active_count());
   const Real h = nb.support_radius();
   const Real wave = Real(3 * M_PI / 2) / h;
   const Real strength[2][2] = {{config_.water_water, config_.oil_water},
@@ -40,9 +40,7 @@ void PfsphSolver::after_non_pressure_forces(SolverHost& host, Real) {
     if (r <= Real(1e-9) * h || r >= h) return Vec3::Zero();
     return (std::cos(wave * r) / r) * d;
   };
-#pragma omp parallel for schedule(dynamic, 64)
-  for (long li = 0; li < n; ++li) {
-    const Index i = Index(li);
+  for_each_active(fluid, [&](Index i) {
     const int phase_i = is_oil(fluid.oil_fraction[i]);
     Vec3 a = Vec3::Zero();
     nb.fluid.for_each(i, [&](Index j, Index) {
@@ -54,7 +52,7 @@ void PfsphSolver::after_non_pressure_forces(SolverHost& host, Real) {
         a += config_.boundary * pair_force(x[i] - boundary.position[b]);
       });
     fluid.acceleration[i] += (reference_density() / fluid.rest_density[i]) * a;
-  }
+  });
 }
 
 }  // namespace sph

@@ -10,6 +10,7 @@
 
 #include <vector>
 
+#include "sph/core/particle_loops.h"
 #include "sph/core/particle_set.h"
 #include "sph/neighbours/neighbourhood.h"
 
@@ -65,12 +66,10 @@ inline Real smallest_factor_denominator(const ParticleNeighbourhood& nb) {
 inline void compute_factors(const ParticleNeighbourhood& nb, const std::vector<Real>& ratio,
                             Index n, std::vector<Real>& alpha) {
   const Real tiny = smallest_factor_denominator(nb);
-#pragma omp parallel for schedule(dynamic, 64)
-  for (long li = 0; li < long(n); ++li) {
-    const Index i = Index(li);
+  for_each_particle(n, [&](Index i) {
     const Real denominator = factor_denominator(i, nb, ratio);
     alpha[i] = denominator > tiny ? Real(1) / denominator : Real(0);
-  }
+  });
 }
 
 // Calls use(i, dv_i) with the velocity change of the stiffness field s, for the first n
@@ -79,16 +78,14 @@ template <class Use>
 void stiffness_velocity_change(const ParticleNeighbourhood& nb, const std::vector<Real>& s,
                                const std::vector<Real>& ratio, Real dt, Index n, Use&& use) {
   const Real inv_dt = Real(1) / dt;
-#pragma omp parallel for schedule(dynamic, 64)
-  for (long li = 0; li < long(n); ++li) {
-    const Index i = Index(li);
+  for_each_particle(n, [&](Index i) {
     const Real si = s[i];
     Vec3 dv = si * nb.boundary_gradient_sum[i];
     const auto& ff = nb.fluid;
     for (Index k = ff.lists.offsets[i]; k < ff.lists.offsets[i + 1]; ++k)
       dv += (si + s[ff.lists.indices[k]]) * ff.gradient[k];
     use(i, Vec3(-(inv_dt * ratio[i]) * dv));
-  }
+  });
 }
 
 }  // namespace sph::pressure_terms

@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "common/stopwatch.h"
+#include "sph/core/particle_loops.h"
 
 namespace sph {
 
@@ -37,26 +38,19 @@ void WcsphSolver::step(SolverHost& host, StepStats& stats) {
 
   const auto t0 = std::chrono::steady_clock::now();
   const Real gamma = config_.stiffness_exponent;
-  double error_sum = 0;
-  Real error_max = 0;
-#pragma omp parallel for schedule(dynamic, 64) reduction(+ : error_sum) reduction(max : error_max)
-  for (long li = 0; li < n; ++li) {
-    const size_t i = size_t(li);
+  const SumAndLargest errors = sum_and_largest(fluid.active_count(), [&](Index i) {
     const Real stiffness = reference_density_ * sound_speed_ * sound_speed_ / gamma;
     fluid.pressure[i] =
         std::max(stiffness * (std::pow(fluid.density[i], gamma) - Real(1)), Real(0));
     const Real error = std::max(fluid.density[i] - Real(1), Real(0));
-    error_sum += double(error);
-    error_max = std::max(error_max, error);
-  }
+    return Contribution{error, error};
+  });
   // Number-density form (Solenthaler & Pajarola 2008): a_i = -(rho_ref / rho0_i) sum_j V_j
   // (kappa_i + kappa_j) grad W_ij - (rho_ref / rho0_i) kappa_i sum_b V_b grad W_ib with
   // kappa = p / (rho_ref (rho/rho0)^2); V_j is folded into the stored gradients. With one phase
   // this is the usual -sum_j m_j (p_i / rho_i^2 + p_j / rho_j^2) grad W_ij.
   const Real inv_reference = Real(1) / reference_density_;
-#pragma omp parallel for schedule(dynamic, 64)
-  for (long li = 0; li < n; ++li) {
-    const Index i = Index(li);
+  for_each_active(fluid, [&](Index i) {
     auto kappa = [&](Index j) {
       return fluid.pressure[j] * inv_reference / (fluid.density[j] * fluid.density[j]);
     };
@@ -65,19 +59,17 @@ void WcsphSolver::step(SolverHost& host, StepStats& stats) {
     nb.fluid.for_each(i, [&](Index j, Index k) { a -= (ki + kappa(j)) * nb.fluid.gradient[k]; });
     a *= reference_density_ / fluid.rest_density[i];
     fluid.acceleration[i] += a;
-  }
-#pragma omp parallel for schedule(dynamic, 64)
-  for (long li = 0; li < n; ++li) {
-    const size_t i = size_t(li);
+  });
+  for_each_active(fluid, [&](Index i) {
     fluid.velocity[i] += dt * fluid.acceleration[i];
     fluid.position[i] += dt * fluid.velocity[i];
-  }
+  });
   host.time_split().pressure_solve += common::seconds_since(t0);
   stats.dt = dt;
   stats.iterations_density = 0;
   stats.iterations_divergence = 0;
-  stats.density_error_avg = n > 0 ? error_sum / double(n) : 0;
-  stats.density_error_max = double(error_max);
+  stats.density_error_avg = n > 0 ? errors.sum / double(n) : 0;
+  stats.density_error_max = double(errors.largest);
 }
 
 }  // namespace sph
