@@ -107,8 +107,7 @@ TEST_P(DamBreakBySolver, FrontFollowsMartinMoyceAndMassIsConserved) {
   EXPECT_LT(r.interior_density_error, 0.01);
 }
 
-INSTANTIATE_TEST_SUITE_P(AllSolvers, DamBreakBySolver,
-                         ::testing::Values("dfsph", "mtdf", "iisph", "pbf", "wcsph", "pfsph"),
+INSTANTIATE_TEST_SUITE_P(AllSolvers, DamBreakBySolver, ::testing::ValuesIn(pressure_solver_names()),
                          [](const auto& info) { return info.param; });
 
 // PBF updates its constraints between iterations to first order in the corrections instead of
