@@ -40,8 +40,8 @@
 
 #include "common/param_spec.h"
 #include "gnn/graph/segment_ops.h"
-#include "gnn/models/gns_model.h"  // Mlp
 #include "gnn/models/graph_model.h"
+#include "gnn/models/mlp.h"
 #include "gnn/models/model_keys.h"
 
 namespace gnn {

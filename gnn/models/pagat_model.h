@@ -20,8 +20,8 @@
 #include <vector>
 
 #include "common/param_spec.h"
-#include "gnn/models/gns_model.h"  // Mlp
 #include "gnn/models/graph_model.h"
+#include "gnn/models/mlp.h"
 #include "gnn/models/model_keys.h"
 #include "gnn/models/pagat/agnb_block.h"
 #include "gnn/models/pagat/physics_module.h"

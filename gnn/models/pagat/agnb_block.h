@@ -38,7 +38,7 @@
 
 #include "gnn/graph/heterogeneous_typing.h"
 #include "gnn/graph/segment_ops.h"
-#include "gnn/models/gns_model.h"  // Mlp
+#include "gnn/models/mlp.h"
 
 namespace gnn {
 

@@ -13,7 +13,7 @@
 #include <torch/torch.h>
 
 #include "gnn/graph/graph_input.h"
-#include "gnn/models/gns_model.h"  // Mlp
+#include "gnn/models/mlp.h"
 
 namespace gnn {
 
