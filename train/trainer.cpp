@@ -69,13 +69,36 @@ Trainer::Trainer(TrainerOptions options, const std::function<TrainingData()>& lo
     throw std::runtime_error(options_.out_dir +
                              " already holds a training run (last.pt): use --resume to "
                              "continue it, or another --out");
-  {
-    TrainingData data = load_data();
-    metadata_ = std::move(data.metadata);
-    train_ = std::move(data.train);
-    valid_ = std::move(data.valid);
-    data_description_ = std::move(data.description);
+  take_data(load_data());
+  if (options_.resume)
+    resume_model(last);
+  else
+    start_model();
+  // A model without parameters (the constant-velocity floor) has nothing to learn: Adam would get
+  // no tensors and the loss no gradient to follow (backward() fails inside LibTorch).
+  if (simulator_->model().parameters().empty())
+    throw common::ConfigError(config_.model_file, "/model",
+                              simulator_->model().name() + " has no parameters to train");
+  simulator_->to(options_.device);
+  choose_objective();
+  optimizer_ = std::make_unique<torch::optim::Adam>(
+      simulator_->model().parameters(), torch::optim::AdamOptions(config_.training.lr_max));
+  noise_generator_ = at::make_generator<at::CPUGeneratorImpl>(uint64_t(config_.training.seed));
+  sampler_.seed(uint64_t(config_.training.seed));
+  if (options_.resume) {
+    gnn::load_optimizer_state(last, *optimizer_);
+    std::istringstream(state_.sampler_state) >> sampler_;
+    if (state_.noise_generator_state.defined())
+      noise_generator_.set_state(state_.noise_generator_state);
   }
+}
+
+// The run's data, checked for the windows training and validation take.
+void Trainer::take_data(TrainingData data) {
+  metadata_ = std::move(data.metadata);
+  train_ = std::move(data.train);
+  valid_ = std::move(data.valid);
+  data_description_ = std::move(data.description);
   if (train_.empty() || valid_.empty())
     throw gnn::DatasetError(metadata_.file + ": no " +
                             (train_.empty() ? "training" : "validation") +
@@ -90,86 +113,76 @@ Trainer::Trainer(TrainerOptions options, const std::function<TrainingData()>& lo
       throw gnn::DatasetError(t.source + ": " + std::to_string(t.frames()) +
                               " frames, a validation window needs at least " +
                               std::to_string(gnn::kWindow + 1));
-  if (options_.resume) {
-    auto loaded = gnn::load_checkpoint(last, config_.model_json.value("model", ""));
-    gnn::check_data_fits(loaded.data, metadata_, last);
-    // The run goes on with its own stored configs; only the step count may be raised. A config
-    // that now says something else is refused, naming every key that differs (a resumed run
-    // that silently ignored a new learning rate once passed for a run with it).
-    {
-      const auto differ = keys_that_differ(loaded.state.training_config, config_.training_json);
-      if (!differ.empty()) {
-        std::string keys;
-        for (const auto& k : differ) keys += (keys.empty() ? "" : ", ") + k;
-        throw common::ConfigError(options_.config_file, differ.front(),
-                                  "differs from the run being resumed (" + last + ") at " + keys +
-                                      "; only /steps may change on --resume: start a new run "
-                                      "with another --out to train with other settings");
-      }
-    }
-    const int steps = config_.training.steps;
-    const std::string stored = loaded.state.training_config.dump();
-    config_.training_json = loaded.state.training_config;
-    nlohmann::json t = loaded.state.training_config;
-    t.erase("model");
-    common::JsonReader::read_struct(t, last, "/training_config", config_.training);
-    config_.training.steps = steps;
-    config_.training_json["steps"] = steps;
-    simulator_ = std::move(loaded.simulator);
-    state_ = loaded.state;
-    state_.training_config = config_.training_json;
-    load_teacher();
-    const bool has_adapters = simulator_->model().config().value("teacher_latent", 0) > 0;
-    if (has_adapters && !teacher_)
-      throw std::invalid_argument(last +
-                                  ": this student was being distilled from a teacher; resume it "
-                                  "with --teacher (the same checkpoint)");
-  } else {
-    // The initial weights come from LibTorch's global generator: seeded, so that a run is
-    // reproducible from its config.
-    torch::manual_seed(uint64_t(config_.training.seed));
-    load_teacher();
-    // A student gets an adapter per block from the teacher's latent width.
-    if (teacher_) config_.model_json["teacher_latent"] = teacher_->config().value("latent", 0);
-    auto model = gnn::make_model(config_.model_json, config_.model_file);
-    simulator_ = std::make_unique<gnn::LearnedSimulator>(
-        model,
-        gnn::Normalisation::from_metadata(metadata_, model->noise_std(),
-                                          gnn::oil_fraction_change_rms(train_)),
-        metadata_.bounds, metadata_.particle_radius);
-    state_.training_config = config_.training_json;
-  }
-  // A model without parameters (the constant-velocity floor) has nothing to learn: Adam would get
-  // no tensors and the loss no gradient to follow (backward() fails inside LibTorch).
-  if (simulator_->model().parameters().empty())
-    throw common::ConfigError(config_.model_file, "/model",
-                              simulator_->model().name() + " has no parameters to train");
-  simulator_->to(options_.device);
+}
+
+// The model, its training state and configs from the run's last checkpoint; the run goes on
+// with its own stored configs, only the step count may be raised.
+void Trainer::resume_model(const std::string& last) {
+  auto loaded = gnn::load_checkpoint(last, config_.model_json.value("model", ""));
+  gnn::check_data_fits(loaded.data, metadata_, last);
+  // A config that now says something else is refused, naming every key that differs (a resumed
+  // run that silently ignored a new learning rate once passed for a run with it).
   {
-    const auto& c = config_.training;
-    gnn::ObjectiveSettings settings;
-    settings.oil_fraction_loss_weight = c.oil_fraction_loss_weight;
-    settings.acceleration_loss_weight = c.acceleration_loss_weight;
-    settings.attention_loss_weight = c.attention_loss_weight;
-    settings.distillation_loss_weight = c.distillation_loss_weight;
-    settings.distillation_beta = c.distillation_beta;
-    settings.generator_strength = c.generator_strength;
-    settings.generator_until = c.generator_until;
-    settings.distillation_stride = c.distillation_stride;
-    settings.steps = c.steps;
-    if (teacher_) teacher_->to(options_.device);
-    objective_ = gnn::make_objective(simulator_->model(), settings, teacher_);
+    const auto differ = keys_that_differ(loaded.state.training_config, config_.training_json);
+    if (!differ.empty()) {
+      std::string keys;
+      for (const auto& k : differ) keys += (keys.empty() ? "" : ", ") + k;
+      throw common::ConfigError(options_.config_file, differ.front(),
+                                "differs from the run being resumed (" + last + ") at " + keys +
+                                    "; only /steps may change on --resume: start a new run "
+                                    "with another --out to train with other settings");
+    }
   }
-  optimizer_ = std::make_unique<torch::optim::Adam>(
-      simulator_->model().parameters(), torch::optim::AdamOptions(config_.training.lr_max));
-  noise_generator_ = at::make_generator<at::CPUGeneratorImpl>(uint64_t(config_.training.seed));
-  sampler_.seed(uint64_t(config_.training.seed));
-  if (options_.resume) {
-    gnn::load_optimizer_state(last, *optimizer_);
-    std::istringstream(state_.sampler_state) >> sampler_;
-    if (state_.noise_generator_state.defined())
-      noise_generator_.set_state(state_.noise_generator_state);
-  }
+  const int steps = config_.training.steps;
+  config_.training_json = loaded.state.training_config;
+  nlohmann::json t = loaded.state.training_config;
+  t.erase("model");
+  common::JsonReader::read_struct(t, last, "/training_config", config_.training);
+  config_.training.steps = steps;
+  config_.training_json["steps"] = steps;
+  simulator_ = std::move(loaded.simulator);
+  state_ = loaded.state;
+  state_.training_config = config_.training_json;
+  load_teacher();
+  const bool has_adapters = simulator_->model().config().value("teacher_latent", 0) > 0;
+  if (has_adapters && !teacher_)
+    throw std::invalid_argument(last +
+                                ": this student was being distilled from a teacher; resume it "
+                                "with --teacher (the same checkpoint)");
+}
+
+// A new model from the config, with seeded initial weights.
+void Trainer::start_model() {
+  // The initial weights come from LibTorch's global generator: seeded, so that a run is
+  // reproducible from its config.
+  torch::manual_seed(uint64_t(config_.training.seed));
+  load_teacher();
+  // A student gets an adapter per block from the teacher's latent width.
+  if (teacher_) config_.model_json["teacher_latent"] = teacher_->config().value("latent", 0);
+  auto model = gnn::make_model(config_.model_json, config_.model_file);
+  simulator_ = std::make_unique<gnn::LearnedSimulator>(
+      model,
+      gnn::Normalisation::from_metadata(metadata_, model->noise_std(),
+                                        gnn::oil_fraction_change_rms(train_)),
+      metadata_.bounds, metadata_.particle_radius);
+  state_.training_config = config_.training_json;
+}
+
+// The objective the model trains with, its teacher (if any) on the run's device.
+void Trainer::choose_objective() {
+  const auto& c = config_.training;
+  gnn::ObjectiveSettings settings;
+  settings.oil_fraction_loss_weight = c.oil_fraction_loss_weight;
+  settings.acceleration_loss_weight = c.acceleration_loss_weight;
+  settings.attention_loss_weight = c.attention_loss_weight;
+  settings.distillation_loss_weight = c.distillation_loss_weight;
+  settings.distillation_beta = c.distillation_beta;
+  settings.generator_strength = c.generator_strength;
+  settings.generator_until = c.generator_until;
+  settings.distillation_stride = c.distillation_stride;
+  settings.steps = c.steps;
+  if (teacher_) teacher_->to(options_.device);
+  objective_ = gnn::make_objective(simulator_->model(), settings, teacher_);
 }
 
 TrainingBatch Trainer::sample_batch() {

@@ -81,6 +81,10 @@ class Trainer {
   // --teacher: the frozen PAGATNet a student is distilled from (null: none).
   std::shared_ptr<gnn::GraphModel> teacher_;
   void load_teacher();
+  void take_data(TrainingData data);
+  void resume_model(const std::string& last);
+  void start_model();
+  void choose_objective();
   std::unique_ptr<torch::optim::Adam> optimizer_;
   gnn::TrainingState state_;
   std::mt19937_64 sampler_;
