@@ -14,11 +14,11 @@
 #include "common/picture_grid.h"
 #include "common/progress.h"
 #include "common/stopwatch.h"
-#include "sph/simulation/frame_loop.h"
 #include "sph/app/scene_runner.h"
 #include "sph/app/solver_comparison.h"
 #include "sph/core/config.h"
 #include "sph/core/simulation_error.h"
+#include "sph/simulation/frame_loop.h"
 #include "sph/simulation/simulation.h"
 
 namespace sph {

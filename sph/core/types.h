@@ -25,7 +25,9 @@ enum class ParticleType : std::int32_t { kWater = 0, kOil = 1, kBoundary = 2 };
 // it was made with (MTDF-SPH's mixture model moves oil between particles): oil from half on.
 // Every oil measure (spill metrics, pictures, node types, scores) uses it.
 constexpr double kOilFractionThreshold = 0.5;
-inline bool is_oil(Real oil_fraction) { return oil_fraction >= Real(kOilFractionThreshold); }
+inline bool is_oil(Real oil_fraction) {
+  return oil_fraction >= Real(kOilFractionThreshold);
+}
 
 // Axis-aligned box.
 struct Aabb {

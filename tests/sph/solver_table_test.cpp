@@ -14,10 +14,10 @@
 
 #include "common/output_folder.h"
 #include "common/picture_grid.h"
-#include "sph/simulation/frame_loop.h"
 #include "sph/core/config.h"
 #include "sph/core/simulation_error.h"
 #include "sph/scene/scene_loader.h"
+#include "sph/simulation/frame_loop.h"
 #include "sph/simulation/simulation.h"
 #include "tests/common/file_size_limit.h"
 
