@@ -6,7 +6,9 @@
 
 #include "common/config_error.h"
 #include "common/json_file.h"
+#include "gnn/data/frame_window.h"
 #include "gnn/data/simulated_dataset.h"
+#include "train/training_config.h"
 
 namespace train {
 namespace fs = std::filesystem;
@@ -38,6 +40,17 @@ TrainingData simulate_training_data(const SceneDataOptions& options, const Train
         " gives " + std::to_string(counts[0]) + " training and " + std::to_string(counts[1]) +
         " validation trajectories; training needs at least one of each");
   }
+  // A training window takes kWindow positions, the target frame and the pushforward frames: with
+  // fewer recorded frames every trajectory would be simulated only to be refused afterwards.
+  const int needed =
+      int(gnn::kWindow) + 1 +
+      load_training_config(run.config_file, run.overrides).training.pushforward_steps;
+  if (g.frames > 0 && g.frames < needed)
+    throw common::InputError("--frames " + std::to_string(g.frames) + ": a training window needs " +
+                             std::to_string(needed) + " frames of each trajectory (" +
+                             std::to_string(gnn::kWindow) +
+                             " positions, the target and the config's pushforward_steps); "
+                             "nothing was simulated");
   nlohmann::json description = {{"scene", fs::absolute(g.scene_file).lexically_normal().string()},
                                 {"generation", sph::generation_settings(g)}};
   const std::string config = (fs::path(run.out_dir) / "config.json").string();

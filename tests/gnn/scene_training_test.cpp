@@ -277,6 +277,11 @@ TEST_F(SceneTraining, BadInputExitsNamingItAndLeavesNoRunFolder) {
   expect_refused(train_from_scene("7", "0.5/0.5") + out_and_data, "--split 0.5/0.5");
   expect_refused(train_from_scene("7", "0.5/0/0.5") + out_and_data, "0 validation trajectories");
   expect_refused(train + " --data " + dir_.string() + out_and_data, "--data");
+  // Too few frames for a training window: refused before anything is simulated.
+  std::string short_frames = train;
+  short_frames.replace(short_frames.find(" --frames 9"), 11, " --frames 6");
+  expect_refused(short_frames + out_and_data, "--frames 6: a training window needs 7 frames");
+  EXPECT_EQ(run(short_frames + out_and_data, dir_).err.find("trajectories:"), std::string::npos);
   const std::string no_source = std::string(SPILL_TRAIN_EXE) + " --config " + SPILL_SOURCE_DIR +
                                 "/configs/training/gns_smoke.json --out " + out.string();
   expect_refused(no_source, "--data");
