@@ -10,22 +10,22 @@
 
 #include "common/param_spec.h"
 #include "gnn/models/graph_model.h"
-#include "gnn/models/model_keys.h"
+#include "gnn/models/model_input_config.h"
 
 namespace gnn {
 
 struct ConstantVelocityConfig {
   std::string model = "constant_velocity";
-  // The shared input keys: the graph is still built (the interface is the same for every
-  // model), and the noise widens the normalisation as for the learned models.
-  double radius = 0.1;
-  double noise_std = 3e-4;
+  // The shared input keys without the type embedding: the graph is still built (the
+  // interface is the same for every model), and the noise widens the normalisation as for the
+  // learned models.
+  ModelInputConfig input;
 
   template <class V>
   void describe(V& v) {
     using common::param;
     v.field("model", model, param("", "model name").one_of({"constant_velocity"}).require());
-    describe_input_keys(v, radius, noise_std);
+    input.describe_without_embedding(v);
   }
 };
 
@@ -36,8 +36,7 @@ class ConstantVelocityModel : public GraphModel {
   static std::shared_ptr<GraphModel> from_config(const nlohmann::json& config,
                                                  const std::string& file);
   std::string name() const override { return "constant_velocity"; }
-  double radius() const override { return config_.radius; }
-  double noise_std() const override { return config_.noise_std; }
+  const ModelInputConfig& input_config() const override { return config_.input; }
   nlohmann::json config() const override;
   void set_normalisation(const Normalisation& normalisation) override;
   double flops(int64_t, int64_t) const override { return 0; }  // it computes nothing

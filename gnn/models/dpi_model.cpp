@@ -16,10 +16,10 @@ torch::nn::Linear linear(int64_t in, int64_t out, bool bias) {
 
 DpiModel::DpiModel(const DpiConfig& config) : config_(config) {
   const int64_t P = config.particle_width, R = config.relation_width, F = config.effect_width;
-  const int64_t state = kNodeFeatures + config.type_embedding;
+  const int64_t state = kNodeFeatures + config.input.type_embedding;
   const int H = config.encoder_hidden_layers;
-  type_embedding_ =
-      register_module("type_embedding", torch::nn::Embedding(kNodeTypes, config.type_embedding));
+  type_embedding_ = register_module("type_embedding",
+                                    torch::nn::Embedding(kNodeTypes, config.input.type_embedding));
   particle_encoder_ = register_module("particle_encoder", Mlp(state, P, P, H, false));
   relation_encoder_ = register_module("relation_encoder", Mlp(kEdgeFeatures, R, R, H, false));
   relation_nodes_ = register_module("relation_nodes", linear(state, 2 * R, false));

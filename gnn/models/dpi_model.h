@@ -42,7 +42,7 @@
 #include "gnn/graph/segment_ops.h"
 #include "gnn/models/graph_model.h"
 #include "gnn/models/mlp.h"
-#include "gnn/models/model_keys.h"
+#include "gnn/models/model_input_config.h"
 
 namespace gnn {
 
@@ -53,9 +53,7 @@ struct DpiConfig {
   int effect_width = 200;
   int propagation_steps = 3;
   int encoder_hidden_layers = 2;
-  int type_embedding = 16;
-  double radius = 0.1;
-  double noise_std = 3e-4;
+  ModelInputConfig input;  // radius, noise_std, type_embedding
 
   template <class V>
   void describe(V& v) {
@@ -71,8 +69,7 @@ struct DpiConfig {
             param("", "propagation steps L (shared weights)").at_least(1).at_most(20));
     v.field("encoder_hidden_layers", encoder_hidden_layers,
             param("", "hidden layers of the particle and relation encoders").at_least(1));
-    describe_type_embedding(v, type_embedding);
-    describe_input_keys(v, radius, noise_std);
+    input.describe(v);
   }
 };
 
@@ -83,8 +80,7 @@ class DpiModel : public GraphModel {
   static std::shared_ptr<GraphModel> from_config(const nlohmann::json& config,
                                                  const std::string& file);
   std::string name() const override { return "dpi"; }
-  double radius() const override { return config_.radius; }
-  double noise_std() const override { return config_.noise_std; }
+  const ModelInputConfig& input_config() const override { return config_.input; }
   nlohmann::json config() const override;
   void set_normalisation(const Normalisation& normalisation) override;
   double flops(int64_t nodes, int64_t edges) const override;

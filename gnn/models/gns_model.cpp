@@ -14,10 +14,10 @@ namespace gnn {
 GnsModel::GnsModel(const GnsConfig& config) : config_(config) {
   const int64_t L = config.latent;
   const int H = config.mlp_hidden_layers;
-  type_embedding_ =
-      register_module("type_embedding", torch::nn::Embedding(kNodeTypes, config.type_embedding));
-  node_encoder_ =
-      register_module("node_encoder", Mlp(kNodeFeatures + config.type_embedding, L, L, H, true));
+  type_embedding_ = register_module("type_embedding",
+                                    torch::nn::Embedding(kNodeTypes, config.input.type_embedding));
+  node_encoder_ = register_module("node_encoder",
+                                  Mlp(kNodeFeatures + config.input.type_embedding, L, L, H, true));
   edge_encoder_ = register_module("edge_encoder", Mlp(kEdgeFeatures, L, L, H, true));
   for (int k = 0; k < config.layers; ++k) {
     const std::string s = std::to_string(k);

@@ -15,7 +15,7 @@
 #include "gnn/graph/segment_ops.h"
 #include "gnn/models/graph_model.h"
 #include "gnn/models/mlp.h"
-#include "gnn/models/model_keys.h"
+#include "gnn/models/model_input_config.h"
 
 namespace gnn {
 
@@ -24,9 +24,7 @@ struct GnsConfig {
   int latent = 128;
   int layers = 10;
   int mlp_hidden_layers = 2;
-  int type_embedding = 16;
-  double radius = 0.1;
-  double noise_std = 3e-4;
+  ModelInputConfig input;  // radius, noise_std, type_embedding
 
   template <class V>
   void describe(V& v) {
@@ -37,8 +35,7 @@ struct GnsConfig {
     v.field("layers", layers, param("", "message-passing steps of the processor").at_least(1));
     v.field("mlp_hidden_layers", mlp_hidden_layers,
             param("", "hidden layers of every MLP").at_least(1));
-    describe_type_embedding(v, type_embedding);
-    describe_input_keys(v, radius, noise_std);
+    input.describe(v);
   }
 };
 
@@ -62,8 +59,7 @@ class GnsModel : public GraphModel {
   double processor_flops(int64_t nodes, int64_t edges) const;
   double flops(int64_t nodes, int64_t edges) const override;
   std::string name() const override { return "gns"; }
-  double radius() const override { return config_.radius; }
-  double noise_std() const override { return config_.noise_std; }
+  const ModelInputConfig& input_config() const override { return config_.input; }
   nlohmann::json config() const override;
   const GnsConfig& gns_config() const { return config_; }
   // Training on the CPU runs each processor step with its hand-written backward

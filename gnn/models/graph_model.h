@@ -19,6 +19,7 @@
 #include "gnn/data/dataset.h"
 #include "gnn/data/normalisation.h"
 #include "gnn/graph/graph_input.h"
+#include "gnn/models/model_input_config.h"
 
 namespace gnn {
 
@@ -62,9 +63,10 @@ class GraphModel : public torch::nn::Module {
   }
 
   virtual std::string name() const = 0;
-  // Input settings shared by all models, from the model's config.
-  virtual double radius() const = 0;     // connectivity radius, m
-  virtual double noise_std() const = 0;  // training noise on velocities, m per frame
+  // The input settings every model's config shares (model_input_config.h).
+  virtual const ModelInputConfig& input_config() const = 0;
+  double radius() const { return input_config().radius; }        // connectivity radius, m
+  double noise_std() const { return input_config().noise_std; }  // velocity noise, m per frame
   // Whether the model reads GraphInput::node_class and link_type (they are built only then).
   virtual bool needs_typing() const { return false; }
   // The surface threshold gamma of that typing (gnn/graph/heterogeneous_typing.h).

@@ -13,10 +13,10 @@ PagatModel::PagatModel(const PagatConfig& config) : config_(config) {
   if (L % config.heads != 0)
     throw std::invalid_argument("pagat: latent " + std::to_string(L) +
                                 " is not a multiple of heads " + std::to_string(config.heads));
-  type_embedding_ =
-      register_module("type_embedding", torch::nn::Embedding(kNodeTypes, config.type_embedding));
-  node_encoder_ =
-      register_module("node_encoder", Mlp(kNodeFeatures + config.type_embedding, L, L, H, true));
+  type_embedding_ = register_module("type_embedding",
+                                    torch::nn::Embedding(kNodeTypes, config.input.type_embedding));
+  node_encoder_ = register_module("node_encoder",
+                                  Mlp(kNodeFeatures + config.input.type_embedding, L, L, H, true));
   edge_encoder_ = register_module("edge_encoder", Mlp(kEdgeFeatures, L, L, H, true));
   if (config.attention && config.physics_aware)
     physics_ = register_module("physics", PhysicsModule(config.physics_width, config.heads));

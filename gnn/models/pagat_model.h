@@ -22,7 +22,7 @@
 #include "common/param_spec.h"
 #include "gnn/models/graph_model.h"
 #include "gnn/models/mlp.h"
-#include "gnn/models/model_keys.h"
+#include "gnn/models/model_input_config.h"
 #include "gnn/models/pagat/agnb_block.h"
 #include "gnn/models/pagat/physics_module.h"
 
@@ -39,9 +39,7 @@ struct PagatConfig {
   bool physics_aware = true;
   double gamma = 0.92;
   int teacher_latent = 0;
-  int type_embedding = 16;
-  double radius = 0.1;
-  double noise_std = 3e-4;
+  ModelInputConfig input;  // radius, noise_std, type_embedding
 
   template <class V>
   void describe(V& v) {
@@ -75,8 +73,7 @@ struct PagatConfig {
                   "adapter per block from it to this model's width for nodes and for edges "
                   "(0: no teacher; spill-train --teacher sets it)")
                 .non_negative());
-    describe_type_embedding(v, type_embedding);
-    describe_input_keys(v, radius, noise_std);
+    input.describe(v);
   }
 };
 
@@ -88,8 +85,7 @@ class PagatModel : public GraphModel {
   static std::shared_ptr<GraphModel> from_config(const nlohmann::json& config,
                                                  const std::string& file);
   std::string name() const override { return "pagat"; }
-  double radius() const override { return config_.radius; }
-  double noise_std() const override { return config_.noise_std; }
+  const ModelInputConfig& input_config() const override { return config_.input; }
   bool needs_typing() const override { return true; }
   // Measured (runtime.h): 2 + 1 threads about twice as fast as 2 + 2.
   bool infers_on_one_blas_thread() const override { return true; }

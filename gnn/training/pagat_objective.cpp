@@ -56,10 +56,10 @@ PagatObjective::PagatObjective(PagatModel& student, const ObjectiveSettings& set
         std::to_string(settings.distillation_stride) + " teacher blocks need " +
         std::to_string(settings.distillation_stride * s.blocks) + ", the teacher has " +
         std::to_string(t.blocks));
-  if (s.radius != t.radius)
+  if (student.radius() != teacher_->radius())
     throw std::invalid_argument("distillation: the teacher's graph radius " +
-                                std::to_string(t.radius) + " differs from the student's " +
-                                std::to_string(s.radius));
+                                std::to_string(teacher_->radius()) +
+                                " differs from the student's " + std::to_string(student.radius()));
 }
 
 size_t PagatObjective::teacher_block(size_t student_block) const {

@@ -197,8 +197,8 @@ int main(int argc, char** argv) {
           " /usr/bin/python3 " SPILL_SOURCE_DIR
           "/tests/bench/gns_pytorch_reference.py"
           " --threads 1 --particles " +
-          std::to_string(train_particles) + " --radius " + std::to_string(c.radius) + " --latent " +
-          std::to_string(c.latent) + " --layers " + std::to_string(c.layers) +
+          std::to_string(train_particles) + " --radius " + std::to_string(c.input.radius) +
+          " --latent " + std::to_string(c.latent) + " --layers " + std::to_string(c.layers) +
           " --mlp-hidden-layers " + std::to_string(c.mlp_hidden_layers) + " --repeat " +
           std::to_string(repeat);
       std::cerr << "PyTorch reference: " << command << "\n";
