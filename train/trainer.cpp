@@ -120,10 +120,13 @@ void Trainer::take_data(TrainingData data) {
 void Trainer::resume_model(const std::string& last) {
   auto loaded = gnn::load_checkpoint(last, config_.model_json.value("model", ""));
   gnn::check_data_fits(loaded.data, metadata_, last);
+  // A run made before the objectives had sections stores their keys flat: read them as today's.
+  nlohmann::json stored = loaded.state.training_config;
+  gnn::move_flat_objective_keys(stored, last);
   // A config that now says something else is refused, naming every key that differs (a resumed
   // run that silently ignored a new learning rate once passed for a run with it).
   {
-    const auto differ = keys_that_differ(loaded.state.training_config, config_.training_json);
+    const auto differ = keys_that_differ(stored, config_.training_json);
     if (!differ.empty()) {
       std::string keys;
       for (const auto& k : differ) keys += (keys.empty() ? "" : ", ") + k;
@@ -134,8 +137,8 @@ void Trainer::resume_model(const std::string& last) {
     }
   }
   const int steps = config_.training.steps;
-  config_.training_json = loaded.state.training_config;
-  nlohmann::json t = loaded.state.training_config;
+  config_.training_json = stored;
+  nlohmann::json t = stored;
   t.erase("model");
   common::JsonReader::read_struct(t, last, "/training_config", config_.training);
   config_.training.steps = steps;
@@ -170,19 +173,12 @@ void Trainer::start_model() {
 
 // The objective the model trains with, its teacher (if any) on the run's device.
 void Trainer::choose_objective() {
-  const auto& c = config_.training;
-  gnn::ObjectiveSettings settings;
-  settings.oil_fraction_loss_weight = c.oil_fraction_loss_weight;
-  settings.acceleration_loss_weight = c.acceleration_loss_weight;
-  settings.attention_loss_weight = c.attention_loss_weight;
-  settings.distillation_loss_weight = c.distillation_loss_weight;
-  settings.distillation_beta = c.distillation_beta;
-  settings.generator_strength = c.generator_strength;
-  settings.generator_until = c.generator_until;
-  settings.distillation_stride = c.distillation_stride;
-  settings.steps = c.steps;
+  gnn::ObjectiveInputs objective;
+  objective.settings = config_.training.objectives;
+  objective.steps = config_.training.steps;
   if (teacher_) teacher_->to(options_.device);
-  objective_ = gnn::make_objective(simulator_->model(), settings, teacher_);
+  objective.teacher = teacher_;
+  objective_ = gnn::make_objective(simulator_->model(), objective);
 }
 
 TrainingBatch Trainer::sample_batch() {
@@ -230,11 +226,16 @@ torch::Tensor Trainer::loss(const TrainingBatch& batch) {
 
 void Trainer::load_teacher() {
   if (options_.teacher.empty()) return;
-  if (config_.model_json.value("model", "") != "pagat")
+  // The model's registry entry names its objective, whose entry says whether it distils.
+  const std::string model = config_.model_json.value("model", std::string("?"));
+  const gnn::ObjectiveEntry objective = gnn::model_objective(model);
+  if (!objective.distils)
     throw common::ConfigError(config_.model_file, "/model",
-                              "--teacher distils a PAGATNet student; this config trains " +
-                                  config_.model_json.value("model", std::string("?")));
-  auto loaded = gnn::load_checkpoint(options_.teacher, std::string("pagat"));
+                              "--teacher distils a student whose objective distils; this config "
+                              "trains " +
+                                  model + " with " + objective.name + ", which does not");
+  // The teacher is the same model at another size (docs/models.md, "Teacher, student and FRKD").
+  auto loaded = gnn::load_checkpoint(options_.teacher, model);
   gnn::check_data_fits(loaded.data, metadata_, options_.teacher);
   teacher_ = loaded.simulator->model_ptr();
   teacher_->eval();  // batch normalisation on its running statistics

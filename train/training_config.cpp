@@ -21,6 +21,7 @@ ResolvedConfig load_training_config(const std::string& file,
       throw common::ConfigError(file, "/model", "expected an object of model config keys");
     j.erase("model");
   }
+  gnn::move_flat_objective_keys(j, file);
   ResolvedConfig out;
   common::JsonReader::read_struct(j, file, "", out.training);
   out.training_json = common::JsonWriter::write_struct(out.training);
@@ -37,19 +38,53 @@ ResolvedConfig load_training_config(const std::string& file,
   return out;
 }
 
+namespace {
+
+// Removes from `asked` each value that `stored` lacks and that equals its default in `defaults`,
+// looking into objects (an objective's section) key by key. An object `stored` lacks is added to
+// it empty when `asked` keeps some of its keys, so that they are named one by one
+// ("/pagat/distillation_beta", not "/pagat").
+void drop_defaults_stored_lacks(const nlohmann::json& defaults, nlohmann::json& stored,
+                                nlohmann::json& asked) {
+  for (auto it = defaults.begin(); it != defaults.end(); ++it) {
+    if (!asked.contains(it.key())) continue;
+    nlohmann::json& value = asked[it.key()];
+    const bool stored_has = stored.is_object() && stored.contains(it.key());
+    if (it->is_object() && value.is_object()) {
+      nlohmann::json lacking = nlohmann::json::object();
+      drop_defaults_stored_lacks(*it, stored_has ? stored[it.key()] : lacking, value);
+      if (stored_has) continue;
+      if (value.empty())
+        asked.erase(it.key());
+      else if (stored.is_object())
+        stored[it.key()] = nlohmann::json::object();
+    } else if (!stored_has && value == *it) {
+      asked.erase(it.key());
+    }
+  }
+}
+
+}  // namespace
+
 std::vector<std::string> keys_that_differ(const nlohmann::json& stored_in,
                                           const nlohmann::json& asked_in) {
   nlohmann::json stored = stored_in, asked = asked_in;
+  gnn::move_flat_objective_keys(stored, "the stored training config");
+  gnn::move_flat_objective_keys(asked, "the asked training config");
   stored.erase("steps");
   asked.erase("steps");
-  const nlohmann::json defaults = common::JsonWriter::write_struct(TrainingConfig{});
-  for (auto it = defaults.begin(); it != defaults.end(); ++it)
-    if (!stored.contains(it.key()) && asked.contains(it.key()) && asked[it.key()] == it.value())
-      asked.erase(it.key());
+  drop_defaults_stored_lacks(common::JsonWriter::write_struct(TrainingConfig{}), stored, asked);
   std::vector<std::string> keys;
   for (const auto& op : nlohmann::json::diff(stored, asked))
     keys.push_back(op.at("path").get<std::string>());
   return keys;
+}
+
+std::string training_config_reference_markdown() {
+  TrainingConfig defaults;
+  common::DocTable table;
+  defaults.describe(table);
+  return "| key | unit | default | range | description |\n|---|---|---|---|---|\n" + table.rows();
 }
 
 double learning_rate(const TrainingConfig& c, int64_t step) {

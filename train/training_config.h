@@ -1,14 +1,18 @@
 #pragma once
 // A training run's config (configs/training/*.json): the model config it starts from (a path
 // relative to the training config's folder) with optional overrides of its keys under "model",
-// and the schedule. Unknown keys, wrong types and out-of-range values are errors naming the file
-// and the key path.
+// the schedule, and a section of settings per training objective ("pagat": {...}). Unknown keys,
+// wrong types and out-of-range values are errors naming the file and the key path. The keys that
+// configs made before the sections held flat ("attention_loss_weight") are still read, into their
+// sections (gnn/training/objective_settings.h).
 
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
+#include "common/config_section.h"
 #include "common/param_spec.h"
+#include "gnn/training/objective_settings.h"
 
 namespace train {
 
@@ -26,15 +30,10 @@ struct TrainingConfig {
   int checkpoint_every = 500;
   int log_every = 10;
   int seed = 1;
-  double oil_fraction_loss_weight = 1.0;
-  // PAGATNet only (gnn/training/pagat_objective.h).
-  double acceleration_loss_weight = 1.0;
-  double attention_loss_weight = 0.1;
-  double distillation_loss_weight = 1.0;
-  double distillation_beta = 1.0;
-  double generator_strength = 0.5;
-  double generator_until = 0.25;
-  int distillation_stride = 2;
+  // The settings of every registered training objective, each declared beside its code
+  // (gnn/training/acceleration_mse.h, pagat_objective.h, ...) under its section key
+  // ("acceleration_mse", "pagat"; why sections: gnn/training/objective_registry.cpp).
+  common::ConfigSections objectives = gnn::objective_sections();
 
   template <class V>
   void describe(V& v) {
@@ -60,35 +59,7 @@ struct TrainingConfig {
             param("", "steps between checkpoints").at_least(1));
     v.field("log_every", log_every, param("", "steps averaged into one log.csv row").at_least(1));
     v.field("seed", seed, param("", "seed of sampling and noise").non_negative());
-    v.field("oil_fraction_loss_weight", oil_fraction_loss_weight,
-            param("", "weight of the oil fraction change's MSE beside the acceleration's")
-                .non_negative());
-    v.field("acceleration_loss_weight", acceleration_loss_weight,
-            param("", "PAGATNet: l1, the weight of L_acc (acceleration and oil fraction MSE)")
-                .non_negative());
-    v.field(
-        "attention_loss_weight", attention_loss_weight,
-        param("", "PAGATNet: l2, the weight of L_att (node-class cross-entropy)").non_negative());
-    v.field("distillation_loss_weight", distillation_loss_weight,
-            param("", "PAGATNet student with --teacher: l3, the weight of L_KD").non_negative());
-    v.field("distillation_beta", distillation_beta,
-            param("", "PAGATNet student: beta in L_KD = L_T-S + beta L_MKD").non_negative());
-    v.field("generator_strength", generator_strength,
-            param("",
-                  "PAGATNet student: lambda of the generator (v + lambda A(v_teacher)) at "
-                  "step 0, falling linearly to 0 at generator_until")
-                .non_negative());
-    v.field("generator_until", generator_until,
-            param("",
-                  "PAGATNet student: the fraction of the run at which the generator's lambda "
-                  "reaches 0; the student trains alone after it")
-                .non_negative()
-                .at_most(1));
-    v.field("distillation_stride", distillation_stride,
-            param("",
-                  "PAGATNet student: student block k pairs with teacher block "
-                  "stride (k + 1) - 1 (counted from 0)")
-                .at_least(1));
+    objectives.describe(v);
   }
 };
 
@@ -107,9 +78,14 @@ ResolvedConfig load_training_config(const std::string& file,
 // The JSON pointers at which a resumed run's config `asked` differs from the one stored with the
 // run (`stored`), /steps aside (it may be raised). A key the stored config does not have (a run
 // made before the key existed) counts only when `asked` gives it a value other than its default,
-// which is what that run trained with.
+// which is what that run trained with. Either may hold the objectives' keys flat, as configs
+// made before their sections did: they compare as the keys of their sections.
 std::vector<std::string> keys_that_differ(const nlohmann::json& stored,
                                           const nlohmann::json& asked);
+
+// The parameter reference of the training config (Markdown table rows, one per key, the
+// objectives' sections included), from the same declarations that validate it.
+std::string training_config_reference_markdown();
 
 // lr(step) = (lr_max - lr_min) * 0.1^(step / decay_steps) + lr_min
 double learning_rate(const TrainingConfig& c, int64_t step);

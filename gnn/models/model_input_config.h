@@ -1,5 +1,5 @@
 #pragma once
-// The input section every model's config shares (MODELS.md, "Shared input pipeline"): the
+// The input section every model's config shares (docs/models.md, "Shared input pipeline"): the
 // graph's connectivity radius, the training noise on the input velocities and the size of the
 // learned node-type embedding, each declared once with its default, range and help text. A model
 // config holds one ModelInputConfig and visits its keys among its own, so they sit flat beside

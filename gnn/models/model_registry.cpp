@@ -1,4 +1,9 @@
-// The one list of learned models: adding a model is its file pair, its #include and its line.
+// The one list of learned models: adding a model is its file pair, its #include and its line
+// (with the objective it trains with, gnn/training/objective_registry.cpp).
+
+#include "gnn/models/model_registry.h"
+
+#include <stdexcept>
 
 #include "common/config_error.h"
 #include "gnn/models/constant_velocity_model.h"
@@ -8,28 +13,27 @@
 
 namespace gnn {
 
-namespace {
-
-struct ModelEntry {
-  std::string name;
-  std::shared_ptr<GraphModel> (*make)(const nlohmann::json& config, const std::string& file);
-};
-
 std::vector<ModelEntry> model_entries() {
   return {
-      {"gns", &GnsModel::from_config},
-      {"dpi", &DpiModel::from_config},
-      {"pagat", &PagatModel::from_config},
-      {"constant_velocity", &ConstantVelocityModel::from_config},
+      // clang-format off
+      {"gns",               "acceleration_mse", &GnsModel::from_config},
+      {"dpi",               "acceleration_mse", &DpiModel::from_config},
+      {"pagat",             "pagat",            &PagatModel::from_config},
+      {"constant_velocity", "acceleration_mse", &ConstantVelocityModel::from_config},
+      // clang-format on
   };
 }
-
-}  // namespace
 
 std::vector<std::string> model_names() {
   std::vector<std::string> names;
   for (const auto& e : model_entries()) names.push_back(e.name);
   return names;
+}
+
+ModelEntry model_entry(const std::string& name) {
+  for (auto& e : model_entries())
+    if (e.name == name) return e;
+  throw std::invalid_argument("unknown model \"" + name + "\"");
 }
 
 std::shared_ptr<GraphModel> make_model(const nlohmann::json& config, const std::string& file) {

@@ -3,14 +3,23 @@
 // A pluggable piece, so the trainer's loop does not change when a model brings terms of its own
 // (PAGATNet: the attention-class cross-entropy and, for a student, distillation against a frozen
 // teacher, L = l1 L_acc + l2 L_att + l3 L_KD). Every term is reported by name for the log.
+//
+// Objectives are registered as the simulator's pressure solvers are: each declares its settings
+// (a struct with describe()) and its registry entry in its own file pair, objective_registry.cpp
+// lists the entries, and a model's registry entry names the objective it trains with
+// (gnn/models/model_registry.h). The training config holds every objective's settings as
+// sections without knowing their types (objective_settings.h).
 
 #include <torch/torch.h>
 
 #include <map>
 #include <memory>
 #include <string>
+#include <vector>
 
+#include "common/config_section.h"
 #include "gnn/models/graph_model.h"
+#include "gnn/training/objective_settings.h"
 
 namespace gnn {
 
@@ -39,39 +48,38 @@ class TrainingObjective {
   virtual ObjectiveValue evaluate(const ModelOutput& output, const TrainingBatch& batch) const = 0;
 };
 
-// docs/models.md's L_acc: mean squared error of the normalised acceleration over fluid particles
-// that are active in the next frame ("acc"), plus `fraction_weight` times the mean squared error
-// of the normalised change of the oil fraction over the same particles ("frac"): every model is a
-// surrogate of both what MTDF-SPH moves and how it moves oil between particles.
-class AccelerationMse : public TrainingObjective {
- public:
-  explicit AccelerationMse(double fraction_weight = 1.0) : fraction_weight_(fraction_weight) {}
-  std::string name() const override { return "acceleration_mse"; }
-  ObjectiveValue evaluate(const ModelOutput& output, const TrainingBatch& batch) const override;
-
- private:
-  double fraction_weight_;
+// What an objective is made from.
+struct ObjectiveInputs {
+  // Every objective's settings, each under its section key (the training config's sections;
+  // the defaults until read over).
+  common::ConfigSections settings = objective_sections();
+  int64_t steps = 1;  // the run's length (schedules over the run, such as PAGATNet's generator)
+  std::shared_ptr<GraphModel> teacher;  // frozen, to distil the model from; null: none
 };
 
-// The weights and settings of the objectives (the training config's keys of the same names).
-struct ObjectiveSettings {
-  double oil_fraction_loss_weight = 1.0;
-  // PAGATNet: L = l1 L_acc + l2 L_att + l3 L_KD, L_KD = L_T-S + beta L_MKD.
-  double acceleration_loss_weight = 1.0;  // l1
-  double attention_loss_weight = 0.1;     // l2
-  double distillation_loss_weight = 1.0;  // l3
-  double distillation_beta = 1.0;         // beta
-  double generator_strength = 0.5;        // lambda at step 0, falling linearly to 0 ...
-  double generator_until = 0.25;          // ... at this fraction of the run, then 0
-  int distillation_stride = 2;            // student block k pairs with teacher block s (k+1) - 1
-  int64_t steps = 1;                      // the run's length (the generator's schedule)
+// How an objective is registered (one line in objective_registry.cpp): everything about it that
+// the trainer needs, so nothing else tests an objective's or a model's name.
+struct ObjectiveEntry {
+  std::string name;  // what a model's registry entry names (ModelEntry::objective)
+  // Its settings, declared beside its code, each under its training-config key; it may also
+  // read another objective's section (PAGATNet's L_acc is acceleration_mse's) and lists it too.
+  std::vector<common::ConfigSectionEntry> sections;
+  // Whether it trains a student against a frozen teacher (ObjectiveInputs::teacher,
+  // spill-train --teacher); the others refuse a teacher.
+  bool distils = false;
+  // Throws std::invalid_argument when the model or the teacher does not fit the objective.
+  std::unique_ptr<TrainingObjective> (*make)(GraphModel& model, const ObjectiveInputs& inputs);
 };
 
-// The objective a model is trained with: acceleration and oil-fraction MSE for GNS and DPI-Nets;
-// PAGATNet's weighted sum with the attention-class loss, and distillation against `teacher`
-// (frozen; null: none) for a student.
-std::unique_ptr<TrainingObjective> make_objective(GraphModel& model,
-                                                  const ObjectiveSettings& settings,
-                                                  std::shared_ptr<GraphModel> teacher = nullptr);
+// Every registered objective, in the registry's order.
+std::vector<ObjectiveEntry> objective_entries();
+// The entry of `name`. Throws std::invalid_argument for an unknown name.
+ObjectiveEntry objective_entry(const std::string& name);
+// The entry of the objective that the registered model `model_name` trains with.
+ObjectiveEntry model_objective(const std::string& model_name);
+
+// The objective `model` trains with (its registry entry's), made from `inputs`. A teacher for a
+// model whose objective does not distil is std::invalid_argument.
+std::unique_ptr<TrainingObjective> make_objective(GraphModel& model, const ObjectiveInputs& inputs);
 
 }  // namespace gnn

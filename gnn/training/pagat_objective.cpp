@@ -36,9 +36,29 @@ torch::Tensor neighbour_kl(const torch::Tensor& p, const torch::Tensor& q, const
   return per_node.squeeze(1).index({has_edges}).mean();
 }
 
-PagatObjective::PagatObjective(PagatModel& student, const ObjectiveSettings& settings,
+ObjectiveEntry PagatObjective::entry() {
+  return {
+      "pagat",
+      {AccelerationMse::section(),
+       common::ConfigSectionEntry::of<PagatObjectiveSettings>(
+           kSection, "PAGATNet's loss weights and distillation (objective pagat)")},
+      /*distils=*/true,
+      [](GraphModel& model, const ObjectiveInputs& inputs) -> std::unique_ptr<TrainingObjective> {
+        // The objective reads the student's adapters and its configuration.
+        auto* student = dynamic_cast<PagatModel*>(&model);
+        if (!student)
+          throw std::invalid_argument("the pagat objective trains a PAGATNet, not " + model.name());
+        return std::make_unique<PagatObjective>(
+            *student, inputs.settings.get<PagatObjectiveSettings>(kSection),
+            inputs.settings.get<AccelerationMseSettings>(AccelerationMse::kSection), inputs.steps,
+            inputs.teacher);
+      }};
+}
+
+PagatObjective::PagatObjective(PagatModel& student, const PagatObjectiveSettings& settings,
+                               const AccelerationMseSettings& acceleration, int64_t steps,
                                std::shared_ptr<GraphModel> teacher)
-    : student_(student), settings_(settings), acceleration_(settings.oil_fraction_loss_weight) {
+    : student_(student), settings_(settings), steps_(steps), acceleration_(acceleration) {
   if (!teacher) return;
   teacher_ = std::dynamic_pointer_cast<PagatModel>(teacher);
   if (!teacher_)
@@ -81,7 +101,7 @@ ForwardOptions PagatObjective::forward_options(const TrainingBatch& batch, int64
   // leaves a student that has never run alone (measured: its validation loss 10 x the
   // student's trained without a teacher). So lambda ends early and the rest of the run trains
   // the student alone, still under L_T-S and L_MKD.
-  const double end = settings_.generator_until * double(std::max<int64_t>(1, settings_.steps));
+  const double end = settings_.generator_until * double(std::max<int64_t>(1, steps_));
   const double lambda =
       end > 0 ? settings_.generator_strength * std::max(0.0, 1.0 - double(step) / end) : 0.0;
   if (lambda > 0)

@@ -4,6 +4,7 @@
 #include <hdf5.h>
 
 #include <unistd.h>
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <set>
@@ -13,7 +14,9 @@
 #include "gnn/data/frame_window.h"
 #include "gnn/graph/radius_graph.h"
 #include "gnn/models/graph_model.h"
+#include "gnn/training/checkpoint.h"
 #include "gnn/training/noise.h"
+#include "gnn/training/objective.h"
 #include "tests/gnn/tiny_dataset.h"
 #include "train/training_config.h"
 
@@ -258,25 +261,112 @@ TEST(Configs, EveryShippedModelAndTrainingConfigLoads) {
 }
 
 // --resume compares the asked config with the stored one: a run made before a key existed (its
-// stored config lacks the key) is not refused for it while the key keeps its default, which is
-// what that run trained with; any other value, or a changed key, is named; /steps may change.
+// stored config lacks the key, or a whole objective's section) is not refused for it while the
+// key keeps its default, which is what that run trained with; any other value, or a changed key,
+// is named; /steps may change.
 TEST(Configs, AResumedRunMadeBeforeANewKeyIsRefusedOnlyForAChangedValue) {
   const fs::path root = SPILL_SOURCE_DIR;
   const auto asked =
       train::load_training_config((root / "configs/training/gns_smoke.json").string(), {})
           .training_json;
   auto stored = asked;
-  stored.erase("attention_loss_weight");
-  stored.erase("distillation_stride");
+  stored["pagat"].erase("attention_loss_weight");
+  stored["pagat"].erase("distillation_stride");
+  stored.erase("acceleration_mse");
   EXPECT_TRUE(train::keys_that_differ(stored, asked).empty());
   auto changed = asked;
-  changed["attention_loss_weight"] = 0.5;
+  changed["pagat"]["attention_loss_weight"] = 0.5;
+  changed["acceleration_mse"]["oil_fraction_loss_weight"] = 0.5;
   changed["steps"] = 99999;
-  EXPECT_EQ(train::keys_that_differ(stored, changed),
-            std::vector<std::string>{"/attention_loss_weight"});
+  auto differ = train::keys_that_differ(stored, changed);
+  std::sort(differ.begin(), differ.end());
+  EXPECT_EQ(differ, (std::vector<std::string>{"/acceleration_mse/oil_fraction_loss_weight",
+                                              "/pagat/attention_loss_weight"}));
   changed = asked;
   changed["lr_max"] = 0.5;
   EXPECT_EQ(train::keys_that_differ(stored, changed), std::vector<std::string>{"/lr_max"});
+}
+
+// Runs and checkpoints made before the objectives had sections store their keys flat, as the
+// committed docs/results checkpoints do (the baselines from before PAGATNet's keys existed, the
+// teacher from before generator_until): each compares equal with the shipped config it was
+// trained with, and a changed objective setting is named by its section's pointer.
+TEST(Configs, CommittedCheckpointsWithFlatKeysCompareEqualToTheirShippedConfigs) {
+  const fs::path root = SPILL_SOURCE_DIR;
+  const std::vector<std::pair<std::string, std::string>> runs = {
+      {"baselines/gns.pt", "gns_river_small.json"},
+      {"baselines/dpi.pt", "dpi_river_small.json"},
+      {"pagat/teacher.pt", "pagat_teacher_river_small.json"},
+      {"pagat/student_light_distillation.pt", "pagat_student_light_distillation_river_small.json"}};
+  for (const auto& [checkpoint, config] : runs) {
+    SCOPED_TRACE(checkpoint);
+    const nlohmann::json stored =
+        gnn::load_checkpoint((root / "docs/results" / checkpoint).string()).state.training_config;
+    ASSERT_TRUE(stored.contains("oil_fraction_loss_weight")) << "not a flat-key config";
+    const std::string file = (root / "configs/training" / config).string();
+    EXPECT_TRUE(train::keys_that_differ(stored, train::load_training_config(file, {}).training_json)
+                    .empty());
+    EXPECT_EQ(train::keys_that_differ(
+                  stored,
+                  train::load_training_config(file, {"/pagat/distillation_beta=2"}).training_json),
+              std::vector<std::string>{"/pagat/distillation_beta"});
+  }
+}
+
+// The objectives' keys that configs held flat before their sections are read into them, from a
+// file or an override; given both ways, the flat key is named.
+TEST(Configs, FlatObjectiveKeysAreReadIntoTheirSections) {
+  const fs::path root = SPILL_SOURCE_DIR;
+  const std::string file = (root / "configs/training/pagat_smoke.json").string();
+  const auto j = train::load_training_config(
+                     file, {"/attention_loss_weight=0.3", "/oil_fraction_loss_weight=0"})
+                     .training_json;
+  EXPECT_EQ(j.at("pagat").at("attention_loss_weight"), 0.3);
+  EXPECT_EQ(j.at("acceleration_mse").at("oil_fraction_loss_weight"), 0.0);
+  EXPECT_FALSE(j.contains("attention_loss_weight"));
+  try {
+    train::load_training_config(file,
+                                {"/attention_loss_weight=0.3", "/pagat/attention_loss_weight=0.2"});
+    ADD_FAILURE() << "accepted";
+  } catch (const common::ConfigError& e) {
+    EXPECT_EQ(e.file(), file);
+    EXPECT_EQ(e.pointer(), "/attention_loss_weight");
+    EXPECT_NE(std::string(e.what()).find("/pagat/attention_loss_weight"), std::string::npos)
+        << e.what();
+  }
+  EXPECT_THROW(train::load_training_config(file, {"/pagat/attention_loss_weight=-1"}),
+               common::ConfigError);
+  EXPECT_THROW(train::load_training_config(file, {"/pagat/attention_los_weight=1"}),
+               common::ConfigError);
+}
+
+// Every registered objective's settings are part of the training config: in its reference, in
+// the resolved config (defaults filled in) and validated under their section (the registry
+// enumerated, so a new objective's keys are checked as they are added).
+TEST(Configs, EveryObjectivesSettingsAreInTheTrainingConfigAndItsReference) {
+  const fs::path root = SPILL_SOURCE_DIR;
+  const std::string file = (root / "configs/training/gns_smoke.json").string();
+  const std::string reference = train::training_config_reference_markdown();
+  const auto resolved = train::load_training_config(file, {}).training_json;
+  int keys = 0;
+  for (const auto& objective : gnn::objective_entries()) {
+    ASSERT_FALSE(objective.sections.empty()) << objective.name;
+    for (const auto& section : objective.sections) {
+      const nlohmann::json defaults = section.make_default()->write();
+      EXPECT_EQ(resolved.at(section.key), defaults) << section.key;
+      for (auto it = defaults.begin(); it != defaults.end(); ++it) {
+        const std::string pointer = "/" + section.key + "/" + it.key();
+        EXPECT_NE(reference.find("`" + pointer + "`"), std::string::npos) << pointer;
+        EXPECT_THROW(train::load_training_config(file, {pointer + "=[]"}), common::ConfigError)
+            << pointer;
+        ++keys;
+      }
+    }
+    EXPECT_THROW(
+        train::load_training_config(file, {"/" + objective.sections[0].key + "/no_such=1"}),
+        common::ConfigError);
+  }
+  EXPECT_GE(keys, 8);
 }
 
 TEST(Configs, AnUnknownKeyIsAnErrorNamingFileAndKey) {

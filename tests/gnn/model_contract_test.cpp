@@ -230,10 +230,13 @@ TEST(TrainingObjective, AccelerationMseIsTheMaskedMeanSquareOverFluidRows) {
   gnn::ModelOutput out;
   out.acceleration = torch::randn({4, 3});
   out.oil_fraction_change = torch::randn({4});
-  gnn::ObjectiveSettings settings;
-  settings.oil_fraction_loss_weight = 0.5;
+  gnn::ObjectiveInputs inputs;
+  common::JsonReader::read_struct(
+      nlohmann::json{{"acceleration_mse", {{"oil_fraction_loss_weight", 0.5}}}}, "test", "",
+      inputs.settings);
   auto gns = small_gns();
-  const auto objective = gnn::make_objective(*gns, settings);
+  const auto objective = gnn::make_objective(*gns, inputs);
+  EXPECT_EQ(objective->name(), "acceleration_mse");
   const gnn::ObjectiveValue v = objective->evaluate(out, batch);
   // Rows 0 and 3 of the output against targets 0 and 2 (row 2 is a boundary node, target 1 is
   // masked out): the mean over 2 x 3 squared differences.

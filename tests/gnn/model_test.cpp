@@ -272,6 +272,56 @@ TEST(Training, ResumeEqualsAnUninterruptedRun) {
   EXPECT_EQ(training_log::rows_without_timing(split / "log.csv"), b) << "the run is untouched";
 }
 
+// A run made before the objectives had sections stores their keys flat in its checkpoint (as the
+// committed docs/results checkpoints do): it resumes with today's config, its objective keys
+// given in their section or flat, and continues as the uninterrupted run; another value of one
+// is refused under its section's pointer.
+TEST(Training, ARunStoredWithFlatObjectiveKeysResumesAsTheUninterruptedRun) {
+  Tiny data("resume_flat");
+  const std::vector<std::string> schedule = {"/validate_every=10", "/checkpoint_every=10",
+                                             "/log_every=5"};
+  auto with = [&](const std::string& setting) {
+    auto overrides = schedule;
+    overrides.push_back(setting);
+    return overrides;
+  };
+  const fs::path straight = data.dir / "straight", split = data.dir / "split";
+  train::Trainer(options(data, straight, 20, with("/pagat/attention_loss_weight=0.3"), kPagatSmoke))
+      .run();
+  train::Trainer(options(data, split, 10, with("/pagat/attention_loss_weight=0.3"), kPagatSmoke))
+      .run();
+  // The checkpoint as a run made before the sections wrote it: the keys of the two objectives
+  // of that time at the top level.
+  const std::string last = (split / "last.pt").string();
+  {
+    auto loaded = gnn::load_checkpoint(last);
+    nlohmann::json& config = loaded.state.training_config;
+    for (const char* section : {"acceleration_mse", "pagat"}) {
+      const nlohmann::json keys = config.at(section);
+      config.erase(section);
+      for (auto it = keys.begin(); it != keys.end(); ++it) config[it.key()] = *it;
+    }
+    ASSERT_EQ(config.at("attention_loss_weight"), 0.3);
+    torch::optim::Adam adam(loaded.simulator->model().parameters());
+    gnn::load_optimizer_state(last, adam);
+    gnn::save_checkpoint(last, *loaded.simulator, loaded.data, loaded.state, &adam);
+  }
+  auto changed = options(data, split, 20, with("/pagat/attention_loss_weight=0.5"), kPagatSmoke);
+  changed.resume = true;
+  try {
+    train::Trainer trainer(changed);
+    ADD_FAILURE() << "expected a ConfigError";
+  } catch (const common::ConfigError& e) {
+    EXPECT_EQ(e.pointer(), "/pagat/attention_loss_weight") << e.what();
+  }
+  auto resumed = options(data, split, 20, with("/attention_loss_weight=0.3"), kPagatSmoke);
+  resumed.resume = true;
+  train::Trainer(resumed).run();
+  const auto rows = training_log::rows_without_timing(straight / "log.csv");
+  ASSERT_EQ(rows.size(), 5u);  // header + 4 rows
+  EXPECT_EQ(training_log::rows_without_timing(split / "log.csv"), rows);
+}
+
 TEST(SegmentOps, MatchPlainGatherAndScatterInValueAndGradient) {
   torch::manual_seed(11);
   auto points = torch::rand({300, 3});
