@@ -17,6 +17,7 @@
 #include "gnn/training/checkpoint.h"
 #include "gnn/training/noise.h"
 #include "gnn/training/objective.h"
+#include "tests/gnn/small_models.h"
 #include "tests/gnn/tiny_dataset.h"
 #include "train/training_config.h"
 
@@ -431,6 +432,28 @@ TEST(Configs, DpiAndConstantVelocityBadKeysNameFileAndKey) {
   } catch (const common::ConfigError& e) {
     EXPECT_NE(std::string(e.what()).find("/effect_widht"), std::string::npos) << e.what();
     EXPECT_NE(std::string(e.what()).find("dpi.json"), std::string::npos) << e.what();
+  }
+}
+
+// Every registered model reads the shared input section (gnn/models/model_input_config.h): its
+// radius and noise are validated under their keys (the registry enumerated).
+TEST(Configs, EveryModelValidatesTheSharedInputKeys) {
+  for (const std::string& name : gnn::model_names()) {
+    SCOPED_TRACE(name);
+    const auto config = small_models::config(name);
+    for (const auto& [key, value] :
+         std::vector<std::pair<std::string, double>>{{"radius", 0.0}, {"noise_std", -1e-4}}) {
+      auto bad = config;
+      bad[key] = value;
+      try {
+        gnn::make_model(bad, name + ".json");
+        ADD_FAILURE() << key << " accepted";
+      } catch (const common::ConfigError& e) {
+        EXPECT_EQ(e.pointer(), "/" + key);
+      }
+    }
+    auto model_config = gnn::make_model(config, name + ".json")->config();
+    EXPECT_TRUE(model_config.contains("radius") && model_config.contains("noise_std"));
   }
 }
 

@@ -17,11 +17,13 @@
 #include "gnn/graph/segment_ops.h"
 #include "gnn/models/dpi_model.h"
 #include "gnn/models/gns_model.h"
+#include "gnn/models/model_registry.h"
 #include "gnn/runtime/runtime.h"
 #include "gnn/training/checkpoint.h"
 #include "sph/io/tensor_recorder.h"
 #include "sph/scene/scene_loader.h"
 #include "sph/simulation/simulation.h"
+#include "tests/gnn/small_models.h"
 #include "tests/gnn/tiny_dataset.h"
 #include "tests/gnn/training_log.h"
 #include "train/trainer.h"
@@ -39,14 +41,11 @@ fs::path temp_dir(const std::string& name) {
 
 const std::string kSmoke = std::string(SPILL_SOURCE_DIR) + "/configs/training/gns_smoke.json";
 const std::string kDpiSmoke = std::string(SPILL_SOURCE_DIR) + "/configs/training/dpi_smoke.json";
-const nlohmann::json kSmallDpi = {{"model", "dpi"},         {"particle_width", 24},
-                                  {"relation_width", 32},   {"effect_width", 16},
-                                  {"propagation_steps", 2}, {"encoder_hidden_layers", 1}};
-const nlohmann::json kConstantVelocity = {{"model", "constant_velocity"}};
+const nlohmann::json kSmallDpi = small_models::config("dpi");
+const nlohmann::json kConstantVelocity = small_models::config("constant_velocity");
 const std::string kPagatSmoke =
     std::string(SPILL_SOURCE_DIR) + "/configs/training/pagat_smoke.json";
-const nlohmann::json kSmallPagat = {{"model", "pagat"}, {"latent", 16},       {"blocks", 2},
-                                    {"heads", 2},       {"physics_width", 8}, {"radius", 0.1}};
+const nlohmann::json kSmallPagat = small_models::config("pagat");
 
 struct Tiny {
   fs::path dir;
@@ -60,8 +59,7 @@ struct Tiny {
   ~Tiny() { fs::remove_all(dir); }
   // A small GNS unless `config` names another model.
   std::unique_ptr<gnn::LearnedSimulator> simulator(
-      const nlohmann::json& config = {
-          {"model", "gns"}, {"latent", 16}, {"layers", 2}, {"mlp_hidden_layers", 1}}) const {
+      const nlohmann::json& config = small_models::config("gns")) const {
     auto model = gnn::make_model(config, "test");
     return std::make_unique<gnn::LearnedSimulator>(
         model,
@@ -91,23 +89,44 @@ train::TrainerOptions options(const Tiny& data, const fs::path& out, int steps,
 
 }  // namespace
 
-TEST(Checkpoint, RoundTripGivesIdenticalOutputs) {
-  Tiny data("roundtrip");
-  auto sim = data.simulator();
+// Every registered model (the registry enumerated: a new model is covered, or fails for want of
+// a small config in tests/gnn/small_models.h): a checkpoint reloads to the same model, config and
+// statistics, with identical outputs and the same rollout (batch normalisation's running
+// statistics included: one training-mode pass moves them first).
+class CheckpointOfEveryModel : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(CheckpointOfEveryModel, ReloadsToIdenticalOutputsAndRollout) {
+  Tiny data("roundtrip_" + GetParam());
+  auto sim = data.simulator(small_models::config(GetParam()));
   auto frame = data.frame(10);
+  sim->model().train();
+  sim->predict_normalised(frame);
+  sim->model().eval();
   torch::NoGradGuard no_grad;
-  auto before = sim->predict_normalised(frame);
+  const auto before = sim->predict_normalised(frame);
   const std::string file = (data.dir / "model.pt").string();
   gnn::TrainingState state;
   state.step = 7;
   gnn::save_checkpoint(file, *sim, gnn::describe_data(data.metadata), state, nullptr);
-  auto loaded = gnn::load_checkpoint(file);
+  auto loaded = gnn::load_checkpoint(file, GetParam());
+  loaded.simulator->model().eval();
   EXPECT_EQ(loaded.state.step, 7);
-  auto after = loaded.simulator->predict_normalised(frame);
-  EXPECT_TRUE(torch::equal(before, after)) << (before - after).abs().max().item<float>();
+  EXPECT_EQ(loaded.simulator->model().name(), GetParam());
+  EXPECT_EQ(loaded.simulator->model().config(), sim->model().config());
   EXPECT_TRUE(
       torch::equal(sim->normalisation().acc_std, loaded.simulator->normalisation().acc_std));
+  const auto after = loaded.simulator->predict_normalised(frame);
+  EXPECT_TRUE(torch::equal(before, after)) << (before - after).abs().max().item<float>();
+  const int64_t frames = 6;
+  const auto a = gnn::rollout(*sim, data.trajectory, 5, frames, data.metadata.frame_dt);
+  const auto b =
+      gnn::rollout(*loaded.simulator, data.trajectory, 5, frames, data.metadata.frame_dt);
+  EXPECT_TRUE(torch::equal(a.position, b.position));
 }
+
+INSTANTIATE_TEST_SUITE_P(Registered, CheckpointOfEveryModel,
+                         ::testing::ValuesIn(gnn::model_names()),
+                         [](const auto& info) { return info.param; });
 
 TEST(Checkpoint, ACheckpointOfAnotherModelOrNoneAtAllIsAClearError) {
   Tiny data("badckpt");
@@ -513,21 +532,6 @@ std::pair<double, double> first_and_last_loss(const fs::path& log) {
   return {loss(rows[1]), loss(rows.back())};
 }
 
-TEST(DpiModel, CheckpointRoundTripGivesIdenticalOutputs) {
-  Tiny data("dpi_roundtrip");
-  auto sim = data.simulator(kSmallDpi);
-  auto frame = data.frame(10);
-  torch::NoGradGuard no_grad;
-  auto before = sim->predict_normalised(frame);
-  const std::string file = (data.dir / "model.pt").string();
-  gnn::save_checkpoint(file, *sim, gnn::describe_data(data.metadata), {}, nullptr);
-  auto loaded = gnn::load_checkpoint(file, std::string("dpi"));
-  EXPECT_EQ(loaded.simulator->model().config(), sim->model().config());
-  auto after = loaded.simulator->predict_normalised(frame);
-  EXPECT_TRUE(torch::equal(before, after)) << (before - after).abs().max().item<float>();
-  EXPECT_TRUE(torch::equal(sim->next_position(frame), loaded.simulator->next_position(frame)));
-}
-
 // The acceleration DPI-Nets reports is the one that takes each fluid particle's last velocity to
 // the velocity its decoder predicts: one Euler step moves a particle by exactly that velocity.
 TEST(DpiModel, TheAccelerationTakesTheLastVelocityToThePredictedOne) {
@@ -676,23 +680,6 @@ TEST(ConstantVelocity, RolloutKeepsEveryFluidVelocity) {
   const int64_t k = tiny::kEmitFrame - from;
   EXPECT_FALSE(torch::equal(r.position[k + 2].index_select(0, emitted),
                             r.position[k].index_select(0, emitted)));
-}
-
-TEST(ConstantVelocity, ReloadsFromACheckpoint) {
-  Tiny data("constant_checkpoint");
-  auto sim = data.simulator(kConstantVelocity);
-  const std::string file = (data.dir / "model.pt").string();
-  gnn::save_checkpoint(file, *sim, gnn::describe_data(data.metadata), {}, nullptr);
-  auto loaded = gnn::load_checkpoint(file, std::string("constant_velocity"));
-  EXPECT_EQ(loaded.simulator->model().name(), "constant_velocity");
-  EXPECT_EQ(loaded.simulator->model().config(), sim->model().config());
-  auto frame = data.frame(10);
-  EXPECT_TRUE(
-      torch::equal(sim->predict_normalised(frame), loaded.simulator->predict_normalised(frame)));
-  const int64_t frames = 6;
-  auto a = gnn::rollout(*sim, data.trajectory, 5, frames, data.metadata.frame_dt);
-  auto b = gnn::rollout(*loaded.simulator, data.trajectory, 5, frames, data.metadata.frame_dt);
-  EXPECT_TRUE(torch::equal(a.position, b.position));
 }
 
 // Nothing to train: a clear error before any output exists, not a LibTorch failure mid-run.
