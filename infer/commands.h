@@ -1,6 +1,7 @@
 #pragma once
 // The subcommands of spill-infer.
 
+#include <atomic>
 #include <ostream>
 #include <string>
 #include <vector>
@@ -17,6 +18,8 @@ struct CommonOptions {
   int blas_threads = 0;        // 0: the measured best split for the model (gnn::inference_runtime)
   std::string device = "cpu";  // where the model runs; the data pipeline stays on the CPU
   int relax = 0;               // iterations of the SPH density correction after each learned frame
+  // Set by Ctrl-C or SIGTERM (common/stop_signals.h): stop at the next frame, writing nothing.
+  const std::atomic<bool>* stop = nullptr;
 };
 
 struct RolloutOptions {
@@ -48,6 +51,7 @@ struct CompareOptions {
   std::string device = "cpu";
   int relax = 0;  // iterations of the SPH density correction after each learned frame
   std::ostream* log = nullptr;
+  const std::atomic<bool>* stop = nullptr;  // as CommonOptions::stop
 };
 
 // Predicted trajectory in the data contract (OUT/rollout.h5, OUT/metadata.json), side-by-side

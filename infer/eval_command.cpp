@@ -4,6 +4,7 @@
 #include "common/checked_file.h"
 #include "common/exit_codes.h"
 #include "common/progress.h"
+#include "common/stop_signals.h"
 #include "common/svg_plot.h"
 #include "infer/commands.h"
 #include "infer/loaded_data.h"
@@ -71,9 +72,13 @@ TrajectoryScores score_trajectory(const LoadedData& d, const gnn::Trajectory& t,
                              std::to_string(t.frames()) + " frames");
   const int64_t frames = o.frames > 0 ? std::min<int64_t>(o.frames, available) : available;
   const auto scene = spill_scene_of(t, o.common.log);
-  TrajectoryScores s = score_rollout(*d.checkpoint.simulator, t, d.metadata, scene.get(),
-                                     recorded_measures(scene.get(), t, o.from, frames), o.from,
-                                     frames, o.common.relax);
+  TrajectoryScores s = score_rollout(
+      *d.checkpoint.simulator, t, d.metadata, scene.get(),
+      recorded_measures(scene.get(), t, o.from, frames), o.from, frames, o.common.relax, nullptr,
+      [&](int64_t k) {
+        common::throw_if_stopped(o.common.stop, "at frame " + std::to_string(k) + " of " + t.source,
+                                 "nothing written");
+      });
   row = {{"source", t.source},
          {"frames", frames},
          {"one_step_mse", s.one_step_mse},

@@ -11,6 +11,7 @@
 #include "common/command_line.h"
 #include "common/exit_codes.h"
 #include "common/hdf5_handles.h"
+#include "common/stop_signals.h"
 #include "gnn/runtime/runtime.h"
 #include "gnn/training/checkpoint.h"
 #include "infer/command_line.h"
@@ -28,6 +29,10 @@ int main(int argc, char** argv) {
   auto* c = infer::add_compare_command(app, compare);
   auto* x = infer::add_export_command(app, exported);
   if (const auto stop = common::parse_command_line(app, argc, argv)) return *stop;
+  // Ctrl-C and SIGTERM stop a rollout at its next frame: its staging folder is removed and the
+  // exit code is 130. (export writes one file atomically and needs no stop.)
+  common::catch_stop_signals();
+  rollout.common.stop = eval.common.stop = compare.stop = common::stop_flag();
   try {
     if (x->parsed()) {
       gnn::write_weights_only(exported.from, exported.to, exported.force);

@@ -7,6 +7,7 @@
 #include "common/checked_file.h"
 #include "common/exit_codes.h"
 #include "common/progress.h"
+#include "common/stop_signals.h"
 #include "gnn/eval/rollout.h"
 #include "infer/commands.h"
 #include "infer/loaded_data.h"
@@ -117,6 +118,7 @@ void run_rollout(const RolloutOptions& o) {
       *d.checkpoint.simulator, t, o.from, frames, d.metadata.frame_dt,
       [&](int64_t k) {
         if (progress) progress->update(k, "");
+        common::throw_if_stopped(o.common.stop, "at frame " + std::to_string(k), "nothing written");
       },
       relaxation_hook(scene.get(), o.common.relax));
   if (progress) progress->finish("");

@@ -66,7 +66,8 @@ FrameMeasures recorded_measures(gnn::SpillScene* scene, const gnn::Trajectory& t
 TrajectoryScores score_rollout(gnn::LearnedSimulator& sim, const gnn::Trajectory& t,
                                const gnn::DatasetMetadata& m, gnn::SpillScene* scene,
                                const FrameMeasures& recorded, int64_t from, int64_t frames,
-                               int relax_iterations, gnn::RolloutResult* kept) {
+                               int relax_iterations, gnn::RolloutResult* kept,
+                               const std::function<void(int64_t)>& on_frame) {
   TrajectoryScores s;
   std::vector<int64_t> one_step_frames;
   const int64_t first = gnn::kWindow - 1, last = t.frames() - 2;
@@ -74,8 +75,8 @@ TrajectoryScores score_rollout(gnn::LearnedSimulator& sim, const gnn::Trajectory
   for (int64_t f = first; f <= last; f += stride) one_step_frames.push_back(f);
   s.one_step_mse = gnn::one_step_position_mse(sim, t, one_step_frames, m.frame_dt);
 
-  auto r =
-      gnn::rollout(sim, t, from, frames, m.frame_dt, {}, relaxation_hook(scene, relax_iterations));
+  auto r = gnn::rollout(sim, t, from, frames, m.frame_dt, on_frame,
+                        relaxation_hook(scene, relax_iterations));
   auto truth = t.position.slice(0, from, from + frames + 1);
   auto truth_active = t.active.slice(0, from, from + frames + 1);
   auto truth_fraction = t.oil_fraction.slice(0, from, from + frames + 1);

@@ -5,6 +5,7 @@
 // computed for the truth and the prediction with the simulator's own spill.json code
 // (gnn/eval/spill_measures.h).
 
+#include <functional>
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <optional>
@@ -50,7 +51,8 @@ struct TrajectoryScores {
 TrajectoryScores score_rollout(gnn::LearnedSimulator& simulator, const gnn::Trajectory& t,
                                const gnn::DatasetMetadata& m, gnn::SpillScene* scene,
                                const FrameMeasures& recorded, int64_t from, int64_t frames,
-                               int relax_iterations = 0, gnn::RolloutResult* kept = nullptr);
+                               int relax_iterations = 0, gnn::RolloutResult* kept = nullptr,
+                               const std::function<void(int64_t)>& on_frame = {});
 
 // The hook that relaxes each learned frame by `iterations` of the scene's density correction;
 // empty for 0. Throws common::InputError when iterations > 0 and there is no scene.

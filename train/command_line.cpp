@@ -130,6 +130,7 @@ void run_training(TrainCommandLine& c) {
     scene.generate.split = sph::parse_split(split);
     scene.generate.threads = threads;
     scene.generate.log = &std::cerr;
+    scene.generate.stop = options.stop;  // an interrupted simulation writes no --save-data
     if (!scene.save_dir.empty() &&
         common::normalise_output_path(scene.save_dir).string() == options.out_dir)
       throw common::InputError("--save-data " + scene.save_dir + ": is the run folder (--out)");

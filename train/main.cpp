@@ -11,6 +11,7 @@
 #include "common/command_line.h"
 #include "common/exit_codes.h"
 #include "common/hdf5_handles.h"
+#include "common/stop_signals.h"
 #include "train/command_line.h"
 
 int main(int argc, char** argv) {
@@ -19,6 +20,10 @@ int main(int argc, char** argv) {
   train::TrainCommandLine command;
   train::add_training_options(app, command);
   if (const auto stop = common::parse_command_line(app, argc, argv)) return *stop;
+  // Ctrl-C and SIGTERM stop the simulation or the training at the next trajectory or step:
+  // the last checkpoint is kept, no staging folder is left, the exit code is 130.
+  common::catch_stop_signals();
+  command.options.stop = common::stop_flag();
   try {
     train::run_training(command);
   } catch (const std::exception& e) {

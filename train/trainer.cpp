@@ -11,6 +11,7 @@
 #include "common/checked_file.h"
 #include "common/config_visitors.h"
 #include "common/progress.h"
+#include "common/stop_signals.h"
 #include "common/svg_plot.h"
 #include "gnn/data/frame_window.h"
 #include "gnn/eval/rollout.h"
@@ -320,8 +321,9 @@ double Trainer::run() {
   }
 }
 
-double Trainer::train_steps() {
-  const auto& c = config_.training;
+// The run folder with its log.csv (a resumed run's cut back to its checkpoint's step) and, for a
+// new run, config.json. Returns the log file.
+std::string Trainer::open_run_folder() const {
   fs::create_directories(options_.out_dir);
   const std::string log_file = (fs::path(options_.out_dir) / "log.csv").string();
   if (options_.resume && fs::exists(log_file)) {
@@ -336,6 +338,25 @@ double Trainer::train_steps() {
                                           .dump(2) +
                                       "\n");
   }
+  return log_file;
+}
+
+// Throws common::Interrupted when Ctrl-C or SIGTERM came, saying what the run folder keeps:
+// `kept_step` is the step of its checkpoint, or -1 before the first (run() then removes a new
+// run's folder).
+void Trainer::stop_if_requested(int64_t kept_step) const {
+  common::throw_if_stopped(
+      options_.stop,
+      "at step " + std::to_string(state_.step) + " of " + std::to_string(config_.training.steps),
+      kept_step < 0 ? "no checkpoint was written yet, so the new run folder " + options_.out_dir +
+                          " is removed"
+                    : checkpoint_path(options_.out_dir) + " keeps step " +
+                          std::to_string(kept_step) + " (--resume goes on from there)");
+}
+
+double Trainer::train_steps() {
+  const auto& c = config_.training;
+  const std::string log_file = open_run_folder();
   std::ostringstream log;  // one line per log step, appended (and checked) as it completes
   log << std::setprecision(9);
   std::unique_ptr<common::ProgressReporter> progress;
@@ -354,7 +375,11 @@ double Trainer::train_steps() {
   int loss_count = 0;
   double window_start = elapsed();
   simulator_->model().train();
+  // The step the run folder's checkpoint holds (none yet for a new run), for the interruption's
+  // message: an interrupted run keeps its last checkpoint, and --resume goes on from it.
+  int64_t kept_step = options_.resume ? state_.step : -1;
   while (state_.step < c.steps) {
+    stop_if_requested(kept_step);
     const double lr = learning_rate(c, state_.step);
     for (auto& group : optimizer_->param_groups())
       static_cast<torch::optim::AdamOptions&>(group.options()).lr(lr);
@@ -401,6 +426,7 @@ double Trainer::train_steps() {
       state_.elapsed_s = elapsed();
       log.flush();
       save(checkpoint_path(options_.out_dir));
+      kept_step = state_.step;
       write_loss_plot();
     }
   }

@@ -9,6 +9,7 @@
 // the same random streams, so on one thread a resumed run reproduces the uninterrupted run's log
 // row for row.
 
+#include <atomic>
 #include <functional>
 #include <iosfwd>
 #include <memory>
@@ -35,6 +36,9 @@ struct TrainerOptions {
   torch::Device device = torch::kCPU;  // where the model trains (the data pipeline stays on CPU)
   std::ostream* log = nullptr;         // progress; null for none
   bool terminal = false;
+  // Set by Ctrl-C or SIGTERM (common/stop_signals.h): the run stops before its next step and
+  // keeps its last checkpoint (a new run without one is removed); null: never.
+  const std::atomic<bool>* stop = nullptr;
 };
 
 using gnn::TrainingBatch;
@@ -67,6 +71,8 @@ class Trainer {
 
  private:
   double train_steps();  // run() without the clean-up of a failed new run folder
+  std::string open_run_folder() const;
+  void stop_if_requested(int64_t kept_step) const;
   void validate(double& one_step_loss, double& rollout_mse);
   void save(const std::string& path);
   void write_loss_plot() const;

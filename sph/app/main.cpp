@@ -11,8 +11,6 @@
 //   spill-sim scene-doc
 
 #include <CLI/CLI.hpp>
-#include <atomic>
-#include <csignal>
 #include <iostream>
 #include <stdexcept>
 #include <vector>
@@ -20,28 +18,14 @@
 #include "common/command_line.h"
 #include "common/exit_codes.h"
 #include "common/hdf5_handles.h"
+#include "common/stop_signals.h"
 #include "sph/app/commands/command.h"
-
-namespace {
-
-// Signal handlers can only reach static storage; this flag is read by the run loop, which then
-// removes its staging folder and exits.
-std::atomic<bool> g_stop_requested{false};
-void request_stop(int) {
-  g_stop_requested.store(true);
-}
-void catch_stop_signals() {
-  std::signal(SIGINT, request_stop);
-  std::signal(SIGTERM, request_stop);
-}
-
-}  // namespace
 
 int main(int argc, char** argv) {
   common::skip_hdf5_exit_handler();
   CLI::App app{"spill-sim: two-phase SPH simulation of oil spills in rivers"};
   app.require_subcommand(1);
-  const sph::CommandContext context{&g_stop_requested, &catch_stop_signals};
+  const sph::CommandContext context{common::stop_flag(), &common::catch_stop_signals};
   const std::vector<sph::Command> commands = {
       sph::add_run_command(app, context),       sph::add_bench_command(app, context),
       sph::add_generate_command(app, context),  sph::add_compare_command(app, context),
