@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "common/checked_file.h"
+#include "common/fnv1a.h"
 #include "common/output_folder.h"
 #include "sph/generation/dataset_folder.h"
 #include "sph/io/tensor_recorder.h"
@@ -65,23 +66,10 @@ class RecorderSink : public sph::TrajectorySink {
 };
 
 // FNV-1a over the bytes of tensors.
-class Fnv1a {
- public:
-  void add(const at::Tensor& t) {
-    const at::Tensor c = t.contiguous();
-    const auto* p = static_cast<const unsigned char*>(c.data_ptr());
-    const size_t n = size_t(c.numel()) * c.element_size();
-    for (size_t i = 0; i < n; ++i) hash_ = (hash_ ^ p[i]) * 0x100000001b3ULL;
-  }
-  std::string hex() const {
-    std::ostringstream s;
-    s << std::hex << std::setw(16) << std::setfill('0') << hash_;
-    return s.str();
-  }
-
- private:
-  std::uint64_t hash_ = 0xcbf29ce484222325ULL;
-};
+void add_tensor(common::Fnv1a& hash, const at::Tensor& t) {
+  const at::Tensor c = t.contiguous();
+  hash.add(c.data_ptr(), size_t(c.numel()) * c.element_size());
+}
 
 std::string part_name(int index) {
   std::ostringstream s;
@@ -129,7 +117,7 @@ SimulatedDataset simulate_dataset(const sph::GenerateOptions& options,
     where = (saved->target() / "metadata.json").string();
   }
   out.metadata = metadata_from_json(metadata, where);
-  Fnv1a hash;
+  common::Fnv1a hash;
   // metadata.json lists the trajectories split by split; splits are consecutive in index order,
   // but each entry is looked up by its index all the same.
   const nlohmann::json& entries = metadata.at("trajectories");
@@ -137,7 +125,7 @@ SimulatedDataset simulate_dataset(const sph::GenerateOptions& options,
     const sph::RecordedTrajectory& r = recorded[size_t(p.index)];
     for (const at::Tensor* t : {&r.time, &r.position, &r.velocity, &r.active, &r.volume_fraction,
                                 &r.particle_type, &r.boundary_position})
-      hash.add(*t);
+      add_tensor(hash, *t);
     int64_t entry = 0;
     while (entries.at(size_t(entry)).at("index") != p.index) ++entry;
     // The scene and materials as read_split gives them for the saved file.

@@ -6,6 +6,7 @@
 #include <filesystem>
 
 #include "common/checked_file.h"
+#include "common/fnv1a.h"
 
 namespace gnn {
 namespace {
@@ -42,15 +43,11 @@ std::string read_text(torch::serialize::InputArchive& archive, const std::string
 // FNV-1a over the names and bytes of the weights and normalisation statistics: a weight changed
 // inside the file (a damaged copy) no longer loads silently. 64 bits in hex text.
 std::string payload_checksum(GraphModel& model, const Normalisation& n) {
-  std::uint64_t h = 1469598103934665603ull;
-  auto add = [&](const void* data, size_t bytes) {
-    const auto* b = static_cast<const unsigned char*>(data);
-    for (size_t k = 0; k < bytes; ++k) h = (h ^ b[k]) * 1099511628211ull;
-  };
+  common::Fnv1a hash;
   auto add_tensor = [&](const std::string& name, const torch::Tensor& t) {
-    add(name.data(), name.size());
+    hash.add(name);
     const auto c = t.detach().to(torch::kCPU).contiguous();
-    add(c.data_ptr(), size_t(c.numel()) * c.element_size());
+    hash.add(c.data_ptr(), size_t(c.numel()) * c.element_size());
   };
   for (const auto& p : model.named_parameters()) add_tensor(p.key(), p.value());
   for (const auto& b : model.named_buffers()) add_tensor(b.key(), b.value());
@@ -59,9 +56,7 @@ std::string payload_checksum(GraphModel& model, const Normalisation& n) {
   add_tensor("acc_mean", n.acc_mean);
   add_tensor("acc_std", n.acc_std);
   add_tensor("fraction_change_std", n.fraction_change_std);
-  char text[17];
-  std::snprintf(text, sizeof text, "%016llx", static_cast<unsigned long long>(h));
-  return text;
+  return hash.hex();
 }
 
 }  // namespace

@@ -2,11 +2,14 @@
 
 #include <hdf5.h>
 
+#include <array>
+#include <fstream>
 #include <memory>
 #include <optional>
 #include <string>
 
 #include "common/checked_file.h"
+#include "common/fnv1a.h"
 #include "common/json_shape.h"
 #include "sph/core/config.h"
 #include "sph/core/simulation_error.h"
@@ -43,6 +46,40 @@ nlohmann::json read_part_info(const fs::path& file) {
   return j;
 }
 
+// The size and FNV-1a checksum of a file's bytes: what a part's description records of it, so
+// that a part file of another dataset, or a damaged one, is recognised before it is assembled.
+nlohmann::json file_identity(const fs::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  common::Fnv1a hash;
+  std::array<char, 1 << 16> buffer;
+  std::uintmax_t bytes = 0;
+  while (in) {
+    in.read(buffer.data(), std::streamsize(buffer.size()));
+    hash.add(buffer.data(), size_t(in.gcount()));
+    bytes += std::uintmax_t(in.gcount());
+  }
+  return {{"bytes", bytes}, {"checksum", hash.hex()}};
+}
+
+// [frames, particles] of a part file's positions; nullopt when it has none readable.
+std::optional<std::array<hsize_t, 2>> part_shape(const fs::path& file) {
+  const hid_t f = H5Fopen(file.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  if (f < 0) return std::nullopt;
+  std::optional<std::array<hsize_t, 2>> shape;
+  const hid_t ds = H5Dopen2(f, "00000/position", H5P_DEFAULT);
+  if (ds >= 0) {
+    const hid_t space = H5Dget_space(ds);
+    hsize_t dims[3] = {0, 0, 0};
+    if (space >= 0 && H5Sget_simple_extent_ndims(space) == 3 &&
+        H5Sget_simple_extent_dims(space, dims, nullptr) == 3)
+      shape = std::array<hsize_t, 2>{dims[0], dims[1]};
+    if (space >= 0) H5Sclose(space);
+    H5Dclose(ds);
+  }
+  H5Fclose(f);
+  return shape;
+}
+
 // The trajectories as part files in parts/, each written frame by frame to a temporary file and
 // renamed when complete; the splits and metadata.json at the end.
 class DatasetFolderSink : public TrajectorySink {
@@ -66,6 +103,9 @@ class DatasetFolderSink : public TrajectorySink {
                                     {"frames", o.frames},
                                     {"warm_up", o.warm_up}};
     const fs::path request_file = parts_dir_ / "request.json";
+    common::Fnv1a fingerprint;
+    fingerprint.add(request.dump());
+    request_fingerprint_ = fingerprint.hex();
     if (fs::exists(request_file)) {
       const nlohmann::json stored = load_json_file(request_file.string(), "generation request");
       const nlohmann::json patch = nlohmann::json::diff(stored, request);
@@ -97,6 +137,8 @@ class DatasetFolderSink : public TrajectorySink {
       throw ConfigError(info.string(), "/parameters",
                         "this folder holds another generation (other seed, ranges or split); "
                         "use a fresh --out");
+    check_part(p, described);
+    described.erase("part");  // the sink's own record, not the trajectory's description
     return described;
   }
 
@@ -125,7 +167,10 @@ class DatasetFolderSink : public TrajectorySink {
     writer_->close();
     writer_.reset();
     fs::rename(temporary_file(p), part_file(p));
-    write_json_atomically(info_file(p), description);
+    nlohmann::json described = description;
+    described["part"] = file_identity(part_file(p));
+    described["part"]["request"] = request_fingerprint_;
+    write_json_atomically(info_file(p), described);
   }
 
   // Nothing half-written stays behind; finished trajectories do.
@@ -154,7 +199,45 @@ class DatasetFolderSink : public TrajectorySink {
     return parts_dir_ / ("trajectory_" + group_name(p.index) + ".json");
   }
 
+  // A finished part is assembled only when it is the one this request wrote: made for the
+  // stored request (a description and part copied from another dataset are not), with the
+  // particles and frames its description gives, and the bytes it had when written (a part file
+  // of another dataset, of another radius or particle count, once went into valid.h5 unseen).
+  // Parts written before descriptions recorded the request and the bytes are checked by shape.
+  void check_part(const TrajectoryPlan& p, const nlohmann::json& described) const {
+    const fs::path info = info_file(p), part = part_file(p);
+    const std::string redo = ": delete " + part.filename().string() + " and " +
+                             info.filename().string() + " to simulate the trajectory again";
+    if (described.contains("part")) {
+      if (described["part"].value("request", "") != request_fingerprint_)
+        throw ConfigError(info.string(), "/part/request",
+                          "written by another generation request than " +
+                              (parts_dir_ / "request.json").string() + redo);
+      const nlohmann::json found = file_identity(part);
+      for (const char* key : {"bytes", "checksum"})
+        if (described["part"].value(key, nlohmann::json()) != found.at(key))
+          throw ConfigError(part.string(), "/00000",
+                            "is not the trajectory part this generation wrote (" +
+                                std::string(key) + " " + found.at(key).dump() + " where " +
+                                info.filename().string() + " records " +
+                                described["part"].value(key, nlohmann::json()).dump() +
+                                ": a part of another dataset, or a damaged one)" + redo);
+    }
+    const auto shape = part_shape(part);
+    const auto frames = described.at("frames").get<hsize_t>();
+    const auto particles = described.value("particles", hsize_t(0));
+    if (!shape || (*shape)[0] != frames || (*shape)[1] != particles)
+      throw ConfigError(part.string(), "/00000/position",
+                        (shape ? "holds " + std::to_string((*shape)[0]) + " frames of " +
+                                     std::to_string((*shape)[1]) + " particles"
+                               : std::string("holds no readable positions")) +
+                            " where " + info.filename().string() + " describes " +
+                            std::to_string(frames) + " frames of " + std::to_string(particles) +
+                            redo);
+  }
+
   fs::path out_dir_, parts_dir_;
+  std::string request_fingerprint_;  // FNV-1a of the request (start)
   std::unique_ptr<TrajectoryWriter> writer_;
 };
 

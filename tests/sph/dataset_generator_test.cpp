@@ -185,6 +185,53 @@ TEST_F(Generate, ResumesWithoutRedoingAndMatchesAnUninterruptedRun) {
   EXPECT_THROW(generate_dataset(o), ConfigError);
 }
 
+// A finished part is assembled only when it is the one this generation wrote. Copied from a
+// dataset of another particle radius (and so another particle count), the part file alone, or
+// with its description, is refused naming the part; the finished dataset is left as it was.
+TEST_F(Generate, RefusesAPartOfAnotherDataset) {
+  GenerateOptions o = options("spill_generate_own");
+  fs::remove_all(o.out_dir);
+  const nlohmann::json own = generate_dataset(o);
+  GenerateOptions other = options("spill_generate_other");
+  other.overrides = {"/particle_radius=0.025"};
+  fs::remove_all(other.out_dir);
+  generate_dataset(other);
+  const fs::path parts = o.out_dir / "parts", foreign = other.out_dir / "parts";
+  const std::string valid_before = read_json(o.out_dir / "metadata.json").dump();
+  auto expect_refused = [&](const fs::path& named, const std::string& pointer,
+                            const std::string& words) {
+    try {
+      generate_dataset(o);
+      ADD_FAILURE() << "a foreign part was assembled";
+    } catch (const ConfigError& e) {
+      EXPECT_EQ(e.file(), named.string()) << e.what();
+      EXPECT_EQ(e.pointer(), pointer) << e.what();
+      EXPECT_NE(std::string(e.what()).find(words), std::string::npos) << e.what();
+    }
+    EXPECT_EQ(read_json(o.out_dir / "metadata.json").dump(), valid_before);
+  };
+  // The part file alone: its bytes are not those its description recorded.
+  fs::copy_file(parts / "trajectory_00001.h5", o.out_dir / "kept.h5");
+  fs::copy_file(foreign / "trajectory_00001.h5", parts / "trajectory_00001.h5",
+                fs::copy_options::overwrite_existing);
+  expect_refused(parts / "trajectory_00001.h5", "/00000", "another dataset");
+  // The same from a description without the record (as parts were written before it): the
+  // part's particle count is not the one described.
+  nlohmann::json unrecorded = read_json(parts / "trajectory_00001.json");
+  unrecorded.erase("part");
+  std::ofstream(parts / "trajectory_00001.json", std::ios::trunc) << unrecorded.dump();
+  expect_refused(parts / "trajectory_00001.h5", "/00000/position", "particles");
+  // The part with its description (the same draws, another radius): another request made it.
+  for (const char* f : {"trajectory_00001.h5", "trajectory_00001.json"})
+    fs::copy_file(foreign / f, parts / f, fs::copy_options::overwrite_existing);
+  expect_refused(parts / "trajectory_00001.json", "/part/request", "another generation request");
+  // Its own part back: the dataset assembles as before.
+  fs::copy_file(o.out_dir / "kept.h5", parts / "trajectory_00001.h5",
+                fs::copy_options::overwrite_existing);
+  std::ofstream(parts / "trajectory_00001.json", std::ios::trunc) << unrecorded.dump();
+  EXPECT_EQ(generate_dataset(o), own);
+}
+
 TEST(GenerateInput, BadRequestsAreClearErrors) {
   EXPECT_THROW(parse_parameter_range("/flow/speed=1.2"), common::InputError);
   EXPECT_THROW(parse_parameter_range("flow/speed=1:2"), common::InputError);
