@@ -11,6 +11,10 @@ namespace common {
 
 class Fnv1a {
  public:
+  static constexpr std::uint64_t kOffsetBasis = 0xcbf29ce484222325ULL;  // FNV's own
+  // `basis`: FNV's offset basis, or a checksum's historic one (stored checksums stay valid).
+  explicit Fnv1a(std::uint64_t basis = kOffsetBasis) : hash_(basis) {}
+
   void add(const void* data, size_t bytes) {
     const auto* b = static_cast<const unsigned char*>(data);
     for (size_t k = 0; k < bytes; ++k) hash_ = (hash_ ^ b[k]) * 0x100000001b3ULL;
@@ -24,7 +28,7 @@ class Fnv1a {
   }
 
  private:
-  std::uint64_t hash_ = 0xcbf29ce484222325ULL;
+  std::uint64_t hash_;
 };
 
 }  // namespace common

@@ -73,6 +73,21 @@ std::vector<fs::path> remove_stale_staging(const fs::path& parent) {
   return removed;
 }
 
+void check_can_create(const std::string& given, const std::string& option) {
+  const fs::path target = normalise_output_path(given);
+  auto refuse = [&](const std::string& why) {
+    throw OutputPathError(option + " " + given + ": cannot create: " + why);
+  };
+  fs::path existing = target;
+  std::error_code ec;
+  while (!fs::exists(existing, ec) && existing.has_relative_path())
+    existing = existing.parent_path();
+  if (!fs::is_directory(existing, ec))
+    refuse(quoted(existing) + (existing == target ? " exists and" : "") + " is not a folder");
+  if (::access(existing.c_str(), W_OK | X_OK) != 0)
+    refuse(quoted(existing) + " is not writable by this user");
+}
+
 OutputFolder::OutputFolder(const std::string& given, OutputFolderPolicy policy) {
   const std::string& option = policy.option;
   target_ = normalise_output_path(given);

@@ -63,6 +63,13 @@ class OutputFolder {
   bool committed_ = false;
 };
 
+// For commands that write into their folder in place, resumably (spill-train's run folder,
+// generate's dataset folder): checks, before their long work and without making anything, that
+// `given` is a folder or can be made as one (its nearest existing ancestor is a folder this
+// process may write into). Throws OutputPathError naming `option` (a raw "filesystem error"
+// after the work, before).
+void check_can_create(const std::string& given, const std::string& option);
+
 // Removes `.*.partial-PID` and `.*.old-PID` folders in `parent` whose process no longer runs.
 // Returns the removed paths.
 std::vector<std::filesystem::path> remove_stale_staging(const std::filesystem::path& parent);

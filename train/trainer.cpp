@@ -10,6 +10,7 @@
 
 #include "common/checked_file.h"
 #include "common/config_visitors.h"
+#include "common/output_folder.h"
 #include "common/progress.h"
 #include "common/stop_signals.h"
 #include "common/svg_plot.h"
@@ -67,9 +68,10 @@ Trainer::Trainer(TrainerOptions options, const std::function<TrainingData()>& lo
   if (options_.resume && !fs::exists(last))
     throw gnn::CheckpointError(last + ": nothing to resume (no checkpoint in the run folder)");
   if (!options_.resume && fs::exists(last))
-    throw std::runtime_error(options_.out_dir +
-                             " already holds a training run (last.pt): use --resume to "
-                             "continue it, or another --out");
+    throw common::OutputPathError("--out " + options_.out_dir +
+                                  ": already holds a training run (last.pt); use --resume to "
+                                  "continue it, or another --out");
+  common::check_can_create(options_.out_dir, "--out");
   take_data(load_data());
   if (options_.resume)
     resume_model(last);
@@ -148,11 +150,37 @@ void Trainer::resume_model(const std::string& last) {
   state_ = loaded.state;
   state_.training_config = config_.training_json;
   load_teacher();
+  check_resumed_teacher(last);
+}
+
+// A resumed student goes on with the teacher it was distilled from (its checkpoint records the
+// teacher's path and weights checksum), and a run without a teacher goes on without one: another
+// teacher would train it under another objective than its config.json records.
+void Trainer::check_resumed_teacher(const std::string& last) {
   const bool has_adapters = simulator_->model().config().value("teacher_latent", 0) > 0;
   if (has_adapters && !teacher_)
-    throw std::invalid_argument(last +
-                                ": this student was being distilled from a teacher; resume it "
-                                "with --teacher (the same checkpoint)");
+    throw common::InputError(last +
+                             ": this student was being distilled from a teacher; resume it with "
+                             "--teacher (the same checkpoint" +
+                             (state_.teacher.is_object()
+                                  ? ", " + state_.teacher.value("path", std::string("?"))
+                                  : std::string()) +
+                             ")");
+  if (!has_adapters && teacher_)
+    throw common::InputError("--teacher " + options_.teacher + ": the run being resumed (" + last +
+                             ") trains without a teacher; resume it without --teacher");
+  if (!teacher_ || !state_.teacher.is_object()) return;  // recorded only since the check came
+  const std::string first = state_.teacher.value("path", std::string("?"));
+  if (state_.teacher.value("checksum", std::string()) != teacher_record_.at("checksum"))
+    throw common::InputError("--teacher " + options_.teacher +
+                             ": not the teacher this student was distilled from (" + last +
+                             " records " + first + ", weights checksum " +
+                             state_.teacher.value("checksum", std::string("?")) +
+                             "; this one has " + teacher_record_.at("checksum").get<std::string>() +
+                             "); resume with that teacher, or start a new run with another --out");
+  if (first != teacher_record_.at("path") && options_.log)
+    *options_.log << "note: --teacher " << options_.teacher << " holds the same weights as "
+                  << first << ", the teacher recorded for this run\n";
 }
 
 // A new model from the config, with seeded initial weights.
@@ -163,6 +191,7 @@ void Trainer::start_model() {
   load_teacher();
   // A student gets an adapter per block from the teacher's latent width.
   if (teacher_) config_.model_json["teacher_latent"] = teacher_->config().value("latent", 0);
+  state_.teacher = teacher_record_;
   auto model = gnn::make_model(config_.model_json, config_.model_file);
   simulator_ = std::make_unique<gnn::LearnedSimulator>(
       model,
@@ -179,7 +208,14 @@ void Trainer::choose_objective() {
   objective.steps = config_.training.steps;
   if (teacher_) teacher_->to(options_.device);
   objective.teacher = teacher_;
-  objective_ = gnn::make_objective(simulator_->model(), objective);
+  try {
+    objective_ = gnn::make_objective(simulator_->model(), objective);
+  } catch (const std::invalid_argument& e) {
+    // A teacher the student cannot be paired with (width, blocks, graph radius) is bad input.
+    if (!teacher_) throw;
+    throw common::InputError("--teacher " + options_.teacher + " does not fit the student of " +
+                             options_.config_file + ": " + e.what());
+  }
 }
 
 TrainingBatch Trainer::sample_batch() {
@@ -239,6 +275,8 @@ void Trainer::load_teacher() {
   auto loaded = gnn::load_checkpoint(options_.teacher, model);
   gnn::check_data_fits(loaded.data, metadata_, options_.teacher);
   teacher_ = loaded.simulator->model_ptr();
+  teacher_record_ = {{"path", fs::absolute(options_.teacher).lexically_normal().string()},
+                     {"checksum", loaded.payload_checksum}};
   teacher_->eval();  // batch normalisation on its running statistics
   for (auto& p : teacher_->parameters()) p.set_requires_grad(false);
 }
@@ -324,19 +362,26 @@ double Trainer::run() {
 // The run folder with its log.csv (a resumed run's cut back to its checkpoint's step) and, for a
 // new run, config.json. Returns the log file.
 std::string Trainer::open_run_folder() const {
-  fs::create_directories(options_.out_dir);
+  std::error_code ec;
+  fs::create_directories(options_.out_dir, ec);
+  if (ec)
+    throw common::OutputPathError("--out " + options_.out_dir + ": cannot create: " + ec.message());
   const std::string log_file = (fs::path(options_.out_dir) / "log.csv").string();
   if (options_.resume && fs::exists(log_file)) {
     truncate_log(log_file, state_.step);
   } else {
     common::write_file_atomically(log_file, std::string(kLogHeader) + "\n");
-    common::write_file_atomically(fs::path(options_.out_dir) / "config.json",
-                                  nlohmann::json{{"training", config_.training_json},
-                                                 {"model", simulator_->model().config()},
-                                                 {"data", data_description_},
-                                                 {"teacher", options_.teacher}}
-                                          .dump(2) +
-                                      "\n");
+    common::write_file_atomically(
+        fs::path(options_.out_dir) / "config.json",
+        nlohmann::json{
+            {"training", config_.training_json},
+            {"model", simulator_->model().config()},
+            {"data", data_description_},
+            {"teacher", options_.teacher},
+            {"teacher_checksum",
+             teacher_record_.is_object() ? teacher_record_.at("checksum") : nlohmann::json()}}
+                .dump(2) +
+            "\n");
   }
   return log_file;
 }
@@ -391,8 +436,9 @@ double Trainer::train_steps() {
     ++state_.step;
     const double value = l.item<double>();
     if (!std::isfinite(value))
-      throw std::runtime_error("training diverged: the loss is " + std::to_string(value) +
-                               " at step " + std::to_string(state_.step));
+      throw std::runtime_error(options_.config_file + ": training diverged: the loss is " +
+                               std::to_string(value) + " at step " + std::to_string(state_.step) +
+                               " (a lower /lr_max may train)");
     loss_sum += value;
     ++loss_count;
     const bool validate_now = state_.step % c.validate_every == 0 || state_.step == c.steps;

@@ -86,7 +86,9 @@ class Trainer {
   std::unique_ptr<gnn::TrainingObjective> objective_;
   // --teacher: the frozen PAGATNet a student is distilled from (null: none).
   std::shared_ptr<gnn::GraphModel> teacher_;
+  nlohmann::json teacher_record_;  // {"path", "checksum"} of teacher_; null without one
   void load_teacher();
+  void check_resumed_teacher(const std::string& last);
   void take_data(TrainingData data);
   void resume_model(const std::string& last);
   void start_model();

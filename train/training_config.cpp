@@ -71,8 +71,10 @@ std::vector<std::string> keys_that_differ(const nlohmann::json& stored_in,
   nlohmann::json stored = stored_in, asked = asked_in;
   gnn::move_flat_objective_keys(stored, "the stored training config");
   gnn::move_flat_objective_keys(asked, "the asked training config");
-  stored.erase("steps");
-  asked.erase("steps");
+  for (const char* free : {"steps", "description"}) {
+    stored.erase(free);
+    asked.erase(free);
+  }
   drop_defaults_stored_lacks(common::JsonWriter::write_struct(TrainingConfig{}), stored, asked);
   std::vector<std::string> keys;
   for (const auto& op : nlohmann::json::diff(stored, asked))

@@ -17,6 +17,7 @@
 namespace train {
 
 struct TrainingConfig {
+  std::string description;   // what the config is for (a note to its reader; never compared)
   std::string model_config;  // path, relative to the training config's folder
   int steps = 1000;
   int batch_size = 2;
@@ -38,6 +39,10 @@ struct TrainingConfig {
   template <class V>
   void describe(V& v) {
     using common::param;
+    v.field("description", description,
+            param("",
+                  "what this config is for, and what it does not fit (a note; not compared "
+                  "on --resume)"));
     v.field("model_config", model_config,
             param("", "model config file, relative to this file's folder").require());
     v.field("steps", steps, param("", "training steps (gradient updates) in all").at_least(1));

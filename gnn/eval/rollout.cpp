@@ -36,6 +36,12 @@ RolloutResult rollout(LearnedSimulator& simulator, const Trajectory& t, int64_t 
     auto window = history.index_select(0, ids);
     FrameNodes nodes{window, fraction.index_select(0, ids), t.material, t.boundary};
     NextState next = simulator.next_state(nodes);
+    // Named here, with the trajectory and the frame: later it would surface as a radius graph
+    // of non-finite positions, naming neither.
+    if (!torch::isfinite(next.position).all().item<bool>())
+      throw std::runtime_error(t.source + ": the model diverged at rollout frame " +
+                               std::to_string(k + 1) + " (recorded frame " +
+                               std::to_string(frame + 1) + "): a predicted position is not finite");
     if (correct) correct(next.position, next.oil_fraction);
     history.index_copy_(0, ids, torch::cat({window.slice(1, 1), next.position.unsqueeze(1)}, 1));
     fraction.index_copy_(0, ids, next.oil_fraction);

@@ -43,7 +43,9 @@ std::string read_text(torch::serialize::InputArchive& archive, const std::string
 // FNV-1a over the names and bytes of the weights and normalisation statistics: a weight changed
 // inside the file (a damaged copy) no longer loads silently. 64 bits in hex text.
 std::string payload_checksum(GraphModel& model, const Normalisation& n) {
-  common::Fnv1a hash;
+  // The basis checkpoints have stored their checksum with since it came (FNV's offset basis less
+  // its last digit): another would refuse every checkpoint written before.
+  common::Fnv1a hash(1469598103934665603ull);
   auto add_tensor = [&](const std::string& name, const torch::Tensor& t) {
     hash.add(name);
     const auto c = t.detach().to(torch::kCPU).contiguous();
@@ -88,6 +90,7 @@ void save_checkpoint(const std::string& path, LearnedSimulator& simulator,
   archive.write("step", torch::tensor(state.step, torch::kInt64));
   archive.write("elapsed_s", torch::tensor(state.elapsed_s, torch::kFloat64));
   archive.write("sampler_state", text_tensor(state.sampler_state));
+  if (!state.teacher.is_null()) archive.write("teacher", text_tensor(state.teacher.dump()));
   if (state.noise_generator_state.defined())
     archive.write("noise_generator_state", state.noise_generator_state);
   archive.write("payload_checksum",
@@ -179,8 +182,9 @@ LoadedCheckpoint load_unchecked(const std::string& path,
   }
   // Checkpoints written before the checksum was stored have none to check.
   torch::Tensor stored_checksum;
+  out.payload_checksum = payload_checksum(*model, n);
   if (archive.try_read("payload_checksum", stored_checksum) &&
-      tensor_text(stored_checksum) != payload_checksum(*model, n))
+      tensor_text(stored_checksum) != out.payload_checksum)
     throw CheckpointError(path +
                           ": the weights do not match their stored checksum (the file is "
                           "damaged or was altered)");
@@ -190,6 +194,14 @@ LoadedCheckpoint load_unchecked(const std::string& path,
   if (archive.try_read("step", step)) out.state.step = step.item<int64_t>();
   if (archive.try_read("elapsed_s", elapsed)) out.state.elapsed_s = elapsed.item<double>();
   if (archive.try_read("sampler_state", sampler)) out.state.sampler_state = tensor_text(sampler);
+  torch::Tensor teacher;
+  if (archive.try_read("teacher", teacher)) {
+    try {
+      out.state.teacher = nlohmann::json::parse(tensor_text(teacher));
+    } catch (const nlohmann::json::exception&) {
+      throw CheckpointError(path + ": its record of the teacher is not valid JSON");
+    }
+  }
   torch::Tensor generator;
   if (archive.try_read("noise_generator_state", generator))
     out.state.noise_generator_state = generator;

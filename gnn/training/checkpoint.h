@@ -32,6 +32,10 @@ struct TrainingState {
   std::string sampler_state;            // std::mt19937_64 in text form
   torch::Tensor noise_generator_state;  // at::Generator::get_state()
   nlohmann::json training_config;
+  // The teacher a student is distilled from: {"path", "checksum"} (the teacher's
+  // LoadedCheckpoint::payload_checksum), so that --resume can check it is given the same one;
+  // null for a run without a teacher (and for checkpoints written before it was recorded).
+  nlohmann::json teacher;
 };
 
 // What a checkpoint says about the data it was trained on.
@@ -45,6 +49,7 @@ struct LoadedCheckpoint {
   std::unique_ptr<LearnedSimulator> simulator;
   nlohmann::json data;
   TrainingState state;
+  std::string payload_checksum;  // FNV-1a of the weights and normalisation (hex)
 };
 
 // Loads the model (rebuilt from its stored config); with `optimizer` also its state.

@@ -145,8 +145,10 @@ int first_recorded_frame(const Simulation& sim, const LoadedScene& scene, const 
   const int frames = frame_count(scene.config);
   const int first = int(std::llround(sim.time() / shortest_decimal(scene.config.output.frame_dt)));
   if (first >= frames)
-    throw SimulationError(o.initial_state + ": the state is at t = " + std::to_string(sim.time()) +
-                          " s, the scene ends at " + std::to_string(scene.config.end_time) + " s");
+    throw ConfigError(o.initial_state, "/time",
+                      "the state is at t = " + std::to_string(sim.time()) + " s, at or after " +
+                          scene.file + "'s /end_time " + std::to_string(scene.config.end_time) +
+                          " s: nothing is left to run (raise /end_time with --set)");
   return first;
 }
 
@@ -158,7 +160,7 @@ int state_frame(const LoadedScene& scene, const RunOptions& o, int first) {
   const int frame = int(std::llround(o.save_state_at / frame_dt));
   if (std::abs(double(frame) * frame_dt - o.save_state_at) > 1e-9 * frames || frame < first ||
       frame > frames)
-    throw SimulationError(
+    throw common::InputError(
         "--save-state-at " + std::to_string(o.save_state_at) + ": expected a frame time between " +
         std::to_string(double(first) * frame_dt) + " and " + std::to_string(scene.config.end_time) +
         " s (frames every " + std::to_string(frame_dt) + " s)");

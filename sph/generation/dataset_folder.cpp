@@ -11,6 +11,7 @@
 #include "common/checked_file.h"
 #include "common/fnv1a.h"
 #include "common/json_shape.h"
+#include "common/output_folder.h"
 #include "sph/core/config.h"
 #include "sph/core/simulation_error.h"
 #include "sph/io/trajectory_writer.h"
@@ -88,7 +89,11 @@ class DatasetFolderSink : public TrajectorySink {
       : out_dir_(std::move(out_dir)), parts_dir_(out_dir_ / "parts") {}
 
   void start(const GenerateOptions& o, const std::vector<TrajectoryPlan>&) override {
-    fs::create_directories(parts_dir_);
+    std::error_code ec;
+    fs::create_directories(parts_dir_, ec);
+    if (ec)
+      throw common::OutputPathError("--out " + out_dir_.string() + ": cannot create " +
+                                    parts_dir_.string() + ": " + ec.message());
     // The whole resolved request: a folder is resumed only by the same request. Comparing the
     // drawn values alone once let another --frames, --set, --scene, --warm-up or --seed reuse the
     // old trajectories and rewrite metadata.json for the new settings.

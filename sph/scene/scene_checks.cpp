@@ -8,6 +8,7 @@
 #include "sph/boundary/emitter.h"
 #include "sph/core/config.h"
 #include "sph/river/leak.h"
+#include "sph/river/river_flow.h"
 #include "sph/scene/scene_size.h"
 
 namespace sph {
@@ -175,6 +176,14 @@ void check_outlets(const SceneConfig& c, const std::string& file) {
   for (size_t i = 0; i < c.leaks.size(); ++i)
     check_outlet(leak_emitter(c.leaks[i], *c.terrain_grid, c.terrain->water_level, file, i),
                  "/leaks/" + std::to_string(i));
+  // The river's inflow plane must cross water (it was a "flow:" error naming no key, at the
+  // start of the run).
+  if (c.flow) try {
+      RiverFlow(*c.flow, *c.terrain_grid, c.terrain->water_level, spacing, volume, PhaseMix{},
+                double(c.output.frame_dt));
+    } catch (const std::invalid_argument& error) {
+      throw ConfigError(file, "/flow/inflow_x", error.what());
+    }
 }
 
 }  // namespace

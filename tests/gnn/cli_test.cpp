@@ -78,6 +78,20 @@ TEST(Cli, TrainRollOutAndEvaluateOnATinyDataset) {
                 (dir / "bad_rollout").string()),
             2);
   EXPECT_FALSE(fs::exists(dir / "bad_rollout"));
+  // Training into a run without --resume, or into an --out that cannot be a folder, exits 2
+  // naming --out (they were exit 1 and a raw "filesystem error"); the run is untouched.
+  const auto trained = fs::last_write_time(run_dir + "/last.pt");
+  EXPECT_EQ(run(train + " --out " + run_dir), 2);
+  EXPECT_EQ(fs::last_write_time(run_dir + "/last.pt"), trained);
+  EXPECT_EQ(run(train + " --out " + data + "/metadata.json/run"), 2);
+  // A teacher that does not fit the student (the shipped river teacher, graph radius 0.075, for
+  // the smoke config's 0.1) is bad input, exit 2, and nothing is written.
+  EXPECT_EQ(
+      run(std::string(SPILL_TRAIN_EXE) + " --config " + SPILL_SOURCE_DIR +
+          "/configs/training/pagat_smoke.json --data " + data + " --threads 1 --teacher " +
+          SPILL_SOURCE_DIR + "/docs/results/pagat/teacher.pt --out " + (dir / "misfit").string()),
+      2);
+  EXPECT_FALSE(fs::exists(dir / "misfit"));
 
   // A validation split too short for a window (it crashed at the first validation) and a test
   // split whose fluid is never present (it scored perfectly) are refused, exit 2.

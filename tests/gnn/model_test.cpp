@@ -628,12 +628,36 @@ TEST(PagatModel, AStudentTrainsAgainstAFrozenTeacher) {
 
   auto resume = options(data, student_run, 30, {"/model/latent=8", "/model/blocks=1"}, kPagatSmoke);
   resume.resume = true;
-  try {
-    train::Trainer(resume).run();
-    ADD_FAILURE() << "resumed without its teacher";
-  } catch (const std::invalid_argument& e) {
-    EXPECT_NE(std::string(e.what()).find("--teacher"), std::string::npos) << e.what();
-  }
+  auto refused = [&](train::TrainerOptions o, const std::vector<std::string>& words) {
+    try {
+      train::Trainer(o).run();
+      ADD_FAILURE() << "resumed with teacher \"" << o.teacher << "\"";
+    } catch (const common::InputError& e) {  // bad input: exit 2
+      for (const auto& w : words)
+        EXPECT_NE(std::string(e.what()).find(w), std::string::npos) << w << ": " << e.what();
+    }
+  };
+  refused(resume, {"--teacher", teacher});
+  // Another teacher (the same model, other weights) is refused, naming both; the run is as it was.
+  const fs::path other_run = data.dir / "other_teacher";
+  train::Trainer(options(data, other_run, 2, {}, kPagatSmoke)).run();
+  auto with_other = resume;
+  with_other.teacher = (other_run / "last.pt").string();
+  refused(with_other, {"not the teacher", teacher, with_other.teacher,
+                       run_config.at("teacher_checksum").get<std::string>()});
+  EXPECT_EQ(gnn::load_checkpoint((student_run / "last.pt").string()).state.step, 20);
+  // A teacher given to a run trained without one is refused too.
+  auto teacher_resumed = options(data, teacher_run, 30, {}, kPagatSmoke);
+  teacher_resumed.resume = true;
+  teacher_resumed.teacher = teacher;
+  refused(teacher_resumed, {"--teacher", "without a teacher"});
+  // The same teacher at another path is the same teacher: the student resumes.
+  const fs::path copy = data.dir / "teacher_copy.pt";
+  fs::copy_file(teacher, copy);
+  auto with_copy = resume;
+  with_copy.teacher = copy.string();
+  train::Trainer(with_copy).run();
+  EXPECT_EQ(gnn::load_checkpoint((student_run / "last.pt").string()).state.step, 30);
   auto gns = options(data, data.dir / "gns_student", 5);
   gns.teacher = teacher;
   try {

@@ -8,6 +8,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 
 #include "common/output_folder.h"
 #include "sph/app/scene_runner.h"
@@ -351,5 +352,61 @@ TEST(RunOutputs, InterruptedRunWritesNothing) {
   fs::remove_all(dir);
 }
 
+struct Exit {
+  int code = -1;
+  std::string err;
+};
+
+Exit run_sim(const std::string& arguments, const fs::path& dir) {
+  const fs::path err = dir / "stderr.txt";
+  const int status = std::system(
+      (std::string(SPILL_SIM_EXE) + " " + arguments + " > /dev/null 2> " + err.string()).c_str());
+  std::ifstream in(err);
+  std::stringstream text;
+  text << in.rdbuf();
+  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, text.str()};
+}
+
 }  // namespace
+
+// One exit-code policy (common/exit_codes.h): each of these is bad input, exit 2, with a message
+// naming the file and the key or the option (they exited 1, some naming nothing), and nothing
+// is written.
+TEST(RunOutputs, BadRunRequestsExitTwoNamingTheFileAndKey) {
+  const fs::path dir = fresh_dir("spill_run_bad_requests");
+  std::ofstream(dir / "small.json") << small_scene().dump();
+  const std::string scene = "--scene " + (dir / "small.json").string();
+  // A state saved at the scene's end: continuing it leaves nothing to run.
+  ASSERT_EQ(
+      run_sim("run " + scene + " --out " + (dir / "saved").string() + " --save-state-at 0.1", dir)
+          .code,
+      0);
+  const std::string state = (dir / "saved" / "state.h5").string();
+  struct Case {
+    std::string arguments;
+    std::vector<std::string> named;
+    fs::path out;  // --out (default: DIR/out)
+  };
+  const std::vector<Case> cases = {
+      {"run " + scene + " --initial-state " + state, {state + ":/time", "/end_time"}, {}},
+      {"run " + scene + " --save-state-at 0.05", {"--save-state-at", "0.02"}, {}},
+      {"run --scene " + std::string(SPILL_SOURCE_DIR) +
+           "/configs/scenes/river_small.json --set /flow/inflow_x=-50",
+       {"river_small.json:/flow/inflow_x", "crosses no water"},
+       {}},
+      {"generate " + scene + " --trajectories 2 --split 0.5/0.5/0",
+       {"--out", "cannot create"},
+       dir / "small.json" / "data"},
+  };
+  for (const Case& c : cases) {
+    const fs::path out = c.out.empty() ? dir / "out" : c.out;
+    const Exit e = run_sim(c.arguments + " --out " + out.string(), dir);
+    EXPECT_EQ(e.code, 2) << c.arguments << "\n" << e.err;
+    EXPECT_NE(e.err.find("error: "), std::string::npos) << e.err;
+    for (const auto& word : c.named) EXPECT_NE(e.err.find(word), std::string::npos) << e.err;
+    EXPECT_FALSE(fs::exists(dir / "out")) << c.arguments;
+  }
+  fs::remove_all(dir);
+}
+
 }  // namespace sph
