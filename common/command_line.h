@@ -5,18 +5,114 @@
 // CLI11, the libraries do not.
 
 #include <CLI/CLI.hpp>
+#include <cmath>
+#include <filesystem>
+#include <iostream>
 #include <optional>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "common/exit_codes.h"
 
 namespace common {
 
+namespace detail {
+
+// A number's bound as a person writes it: "0", "1", "0.5" (CLI11's own checks print the largest
+// double, 309 digits, as the upper bound).
+inline std::string written(double value) {
+  std::ostringstream s;
+  s << value;
+  return s.str();
+}
+
+// Checks that `input` is a number above (or, with `inclusive`, at least) `bound`; "" when it is,
+// else what a person reads. A word is "not a number", not "out of range".
+inline CLI::Validator number_from(double bound, bool inclusive) {
+  const std::string wanted =
+      (inclusive ? "a number of at least " : "a number above ") + written(bound);
+  return CLI::Validator(
+      [bound, inclusive, wanted](std::string& input) -> std::string {
+        double value = 0;
+        size_t used = 0;
+        try {
+          value = std::stod(input, &used);
+        } catch (const std::exception&) {
+          used = 0;
+        }
+        if (used == 0 || used != input.size() || !std::isfinite(value))
+          return "expected " + wanted + ", got \"" + input + "\" (not a number)";
+        if (inclusive ? !(value >= bound) : !(value > bound))
+          return "expected " + wanted + ", got " + input;
+        return "";
+      },
+      inclusive ? ">= " + written(bound) : "> " + written(bound));
+}
+
+}  // namespace detail
+
+// Validators of counts, times and sizes with readable messages (instead of CLI::PositiveNumber
+// and CLI::NonNegativeNumber).
+inline CLI::Validator positive() {
+  return detail::number_from(0, false);
+}
+inline CLI::Validator non_negative() {
+  return detail::number_from(0, true);
+}
+
+// The comma-separated items of an option's value ("wcsph,dfsph"). An empty item ("dfsph,,wcsph",
+// a trailing comma, or nothing at all) is refused: CLI11's own splitting dropped it silently.
+// Throws InputError naming the option.
+inline std::vector<std::string> split_list(const std::string& text, const std::string& option) {
+  std::vector<std::string> items;
+  std::string::size_type start = 0;
+  while (true) {
+    const auto comma = text.find(',', start);
+    items.push_back(text.substr(start, comma == std::string::npos ? comma : comma - start));
+    if (items.back().empty())
+      throw InputError(option + " " + text + ": item " + std::to_string(items.size()) +
+                       " is empty; expected comma-separated items without empty ones");
+    if (comma == std::string::npos) return items;
+    start = comma + 1;
+  }
+}
+
+// split_list's items as whole numbers. Throws InputError naming the option and the item.
+inline std::vector<int> split_int_list(const std::string& text, const std::string& option) {
+  std::vector<int> numbers;
+  for (const std::string& item : split_list(text, option)) {
+    size_t used = 0;
+    int value = 0;
+    try {
+      value = std::stoi(item, &used);
+    } catch (const std::exception&) {
+      used = 0;
+    }
+    if (used == 0 || used != item.size())
+      throw InputError(option + " " + text + ": \"" + item + "\" is not a whole number");
+    numbers.push_back(value);
+  }
+  return numbers;
+}
+
 // Parses the command line; returns the exit code when the program must stop (help shown, or an
-// error printed), nothing when it goes on.
+// error printed), nothing when it goes on. Errors are printed as every other error is,
+// "PROGRAM: error: WHAT" (exit_codes.h's report_error), with a pointer to --help.
 inline std::optional<int> parse_command_line(CLI::App& app, int argc, char** argv) {
   try {
     app.parse(argc, argv);
     return std::nullopt;
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForVersion& e) {
+    return app.exit(e);
   } catch (const CLI::ParseError& e) {
-    return app.exit(e) == 0 ? 0 : 2;
+    const std::string program = std::filesystem::path(argc > 0 ? argv[0] : "").filename().string();
+    std::cerr << program << ": error: " << e.what() << "\nRun with --help for the options.\n";
+    return 2;
   }
 }
 

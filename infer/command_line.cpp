@@ -1,4 +1,5 @@
 #include "infer/command_line.h"
+#include "common/command_line.h"
 
 namespace infer {
 
@@ -15,16 +16,16 @@ void add_common(CLI::App* c, CommonOptions& o) {
   c->add_option("--threads", o.threads,
                 "cores to use; the LibTorch/BLAS split is chosen for the model (see "
                 "inference_runtime in gnn/runtime/runtime.h) unless --blas-threads is given")
-      ->check(CLI::PositiveNumber);
+      ->check(common::positive());
   c->add_option("--blas-threads", o.blas_threads,
                 "OpenBLAS threads, with --threads LibTorch threads (default: the measured best "
                 "split for the model)")
-      ->check(CLI::PositiveNumber);
+      ->check(common::positive());
   c->add_option("--device", o.device, "where the model runs: cpu (default) or cuda[:N]");
   c->add_option("--relax", o.relax,
                 "after each learned frame, this many iterations of the simulator's "
                 "constant-density correction on the predicted positions (default 0: off)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(common::non_negative());
 }
 }  // namespace
 
@@ -32,13 +33,13 @@ CLI::App* add_rollout_command(CLI::App& app, RolloutOptions& rollout) {
   auto* r = app.add_subcommand("rollout", "predict a trajectory and draw it beside the truth");
   add_common(r, rollout.common);
   r->add_option("--trajectory", rollout.trajectory, "trajectory index in the split")
-      ->check(CLI::NonNegativeNumber);
+      ->check(common::non_negative());
   r->add_option("--from", rollout.from, "recorded frame to start from")
-      ->check(CLI::NonNegativeNumber);
+      ->check(common::non_negative());
   r->add_option("--frames", rollout.frames, "frames to predict (default: to the end)")
-      ->check(CLI::PositiveNumber);
+      ->check(common::positive());
   r->add_option("--png-every", rollout.png_every, "draw every n-th frame")
-      ->check(CLI::PositiveNumber);
+      ->check(common::positive());
   return r;
 }
 
@@ -46,9 +47,9 @@ CLI::App* add_eval_command(CLI::App& app, EvalOptions& eval) {
   auto* e = app.add_subcommand("eval", "accuracy and speed over every trajectory of a split");
   add_common(e, eval.common);
   e->add_option("--from", eval.from, "recorded frame each rollout starts from")
-      ->check(CLI::NonNegativeNumber);
+      ->check(common::non_negative());
   e->add_option("--frames", eval.frames, "frames per rollout (default: to the end)")
-      ->check(CLI::PositiveNumber);
+      ->check(common::positive());
   return e;
 }
 
@@ -66,20 +67,20 @@ CLI::App* add_compare_command(CLI::App& app, CompareOptions& compare) {
       ->check(CLI::IsMember({"train", "valid", "test"}));
   c->add_option("--out", compare.out_dir, "output folder")->required();
   c->add_option("--from", compare.from, "recorded frame each rollout starts from")
-      ->check(CLI::NonNegativeNumber);
+      ->check(common::non_negative());
   c->add_option("--frames", compare.frames, "frames per rollout (default: to the end)")
-      ->check(CLI::PositiveNumber);
+      ->check(common::positive());
   c->add_option("--threads", compare.threads,
                 "cores to use; each model gets its measured best LibTorch/BLAS split unless "
                 "--blas-threads is given")
-      ->check(CLI::PositiveNumber);
+      ->check(common::positive());
   c->add_option("--blas-threads", compare.blas_threads, "OpenBLAS threads for every model")
-      ->check(CLI::PositiveNumber);
+      ->check(common::positive());
   c->add_option("--device", compare.device, "where the models run: cpu (default) or cuda[:N]");
   c->add_option("--relax", compare.relax,
                 "after each learned frame, this many iterations of the simulator's "
                 "constant-density correction on the predicted positions (default 0: off)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(common::non_negative());
   return c;
 }
 

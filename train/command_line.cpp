@@ -4,6 +4,7 @@
 
 #include <iostream>
 
+#include "common/command_line.h"
 #include "common/config_error.h"
 #include "common/exit_codes.h"
 #include "common/output_folder.h"
@@ -23,7 +24,7 @@ void add_generation_options(CLI::App& app, TrainCommandLine& c) {
       "with --scene", "spill-sim generate's options, with the same names and meanings");
   auto* trajectories =
       generate->add_option("--trajectories", scene.generate.trajectories, "number of trajectories")
-          ->check(CLI::PositiveNumber);
+          ->check(common::positive());
   scene_option->needs(trajectories);
   std::vector<CLI::Option*> scene_only = {trajectories};
   scene_only.push_back(
@@ -40,12 +41,12 @@ void add_generation_options(CLI::App& app, TrainCommandLine& c) {
       generate
           ->add_option("--frames", scene.generate.frames,
                        "recorded frames per trajectory after the warm-up (default: to the end)")
-          ->check(CLI::PositiveNumber));
+          ->check(common::positive()));
   scene_only.push_back(
       generate
           ->add_option("--warm-up", scene.generate.warm_up,
                        "seconds simulated before recording (default: the first leak's start)")
-          ->check(CLI::NonNegativeNumber));
+          ->check(common::non_negative()));
   scene_only.push_back(generate->add_option(
       "--set-scene", scene.generate.overrides,
       "override a scene value: /json/pointer=value (spill-sim generate's --set)"));
@@ -93,11 +94,11 @@ void add_training_options(CLI::App& app, TrainCommandLine& c) {
                  "cores to use (also by the --scene simulation; 1 makes its data "
                  "bit-reproducible); the LibTorch/BLAS split is chosen for the model (see "
                  "training_runtime in gnn/runtime/runtime.h) unless --blas-threads is given")
-      ->check(CLI::PositiveNumber);
+      ->check(common::positive());
   app.add_option("--blas-threads", blas_threads,
                  "OpenBLAS threads, with --threads LibTorch threads (default: the measured best "
                  "split for the model)")
-      ->check(CLI::PositiveNumber);
+      ->check(common::positive());
   app.add_option("--set", options.overrides,
                  "override a training config value: /pointer=value (e.g. /steps=200, "
                  "/model/latent=64)");

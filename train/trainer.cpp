@@ -149,6 +149,12 @@ void Trainer::resume_model(const std::string& last) {
   simulator_ = std::move(loaded.simulator);
   state_ = loaded.state;
   state_.training_config = config_.training_json;
+  // Fewer steps than were trained would do nothing, and once exited 0 without saying so.
+  if (steps < state_.step)
+    throw common::ConfigError(options_.config_file, "/steps",
+                              "asks for " + std::to_string(steps) + " steps, below the " +
+                                  std::to_string(state_.step) + " that " + last +
+                                  " has trained; raise /steps to go on");
   load_teacher();
   check_resumed_teacher(last);
 }
@@ -401,6 +407,9 @@ void Trainer::stop_if_requested(int64_t kept_step) const {
 
 double Trainer::train_steps() {
   const auto& c = config_.training;
+  if (state_.step >= c.steps && options_.log)
+    *options_.log << "note: the run has trained its " << c.steps
+                  << " steps already; nothing to do (raise /steps to go on)\n";
   const std::string log_file = open_run_folder();
   std::ostringstream log;  // one line per log step, appended (and checked) as it completes
   log << std::setprecision(9);

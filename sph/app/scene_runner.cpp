@@ -260,6 +260,13 @@ nlohmann::json run_scene(const LoadedScene& scene, const RunOptions& options) {
   if (options.ply) fs::create_directories(staging / "ply");
   if (options.png) fs::create_directories(staging / "png");
 
+  // A leak after the end is what a warm-up run (--save-state-at) wants, but is said, never
+  // silent: the run releases no oil from it.
+  for (size_t i = 0; i < scene.config.leaks.size() && options.log; ++i)
+    if (scene.config.leaks[i].start >= scene.config.end_time)
+      *options.log << "note: /leaks/" << i << " starts at " << scene.config.leaks[i].start
+                   << " s, at or after /end_time (" << scene.config.end_time
+                   << " s): this run releases no oil from it\n";
   Simulation sim(scene.config);
   const int frames = frame_count(scene.config);
   const double frame_dt = shortest_decimal(scene.config.output.frame_dt);

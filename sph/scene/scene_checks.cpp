@@ -120,6 +120,19 @@ void check_consistency(const SceneConfig& s, const std::string& file) {
                           "thinner than one particle diameter (" + number(d) +
                               " m, from /particle_radius) along axis " + std::to_string(k) +
                               ": it would hold no particle");
+  // A block outside every tank falls away: it ran silently, to a result without that fluid.
+  if (!s.boxes.empty() && !s.terrain && s.height_fields.empty())
+    for (size_t i = 0; i < s.fluid_blocks.size(); ++i) {
+      const auto& b = s.fluid_blocks[i];
+      bool held = false;
+      for (const auto& box : s.boxes)
+        held = held ||
+               ((b.min.array() < box.max.array()).all() && (b.max.array() > box.min.array()).all());
+      if (!held)
+        throw ConfigError(file, "/fluid_blocks/" + std::to_string(i),
+                          "spans " + format_point(b.min) + " to " + format_point(b.max) +
+                              ", outside every box (/boxes): its fluid would fall away");
+    }
   if (s.domain) check_inside_domain(s, file);
 }
 

@@ -84,6 +84,9 @@ TEST(Cli, TrainRollOutAndEvaluateOnATinyDataset) {
   EXPECT_EQ(run(train + " --out " + run_dir), 2);
   EXPECT_EQ(fs::last_write_time(run_dir + "/last.pt"), trained);
   EXPECT_EQ(run(train + " --out " + data + "/metadata.json/run"), 2);
+  // Resuming with fewer steps than were trained did nothing and exited 0 without a word.
+  EXPECT_EQ(run(train + " --out " + run_dir + " --resume --set /steps=10"), 2);
+  EXPECT_EQ(fs::last_write_time(run_dir + "/last.pt"), trained);
   // A teacher that does not fit the student (the shipped river teacher, graph radius 0.075, for
   // the smoke config's 0.1) is bad input, exit 2, and nothing is written.
   EXPECT_EQ(

@@ -394,6 +394,18 @@ TEST(RunOutputs, BadRunRequestsExitTwoNamingTheFileAndKey) {
            "/configs/scenes/river_small.json --set /flow/inflow_x=-50",
        {"river_small.json:/flow/inflow_x", "crosses no water"},
        {}},
+      // Readable option errors (CLI11's printed a 309-digit bound and no "error:"), empty list
+      // items refused (they were dropped silently), a block outside every tank refused.
+      {"run " + scene + " --threads -3", {"--threads: expected a number above 0, got -3"}, {}},
+      {"run " + scene + " --threads many", {"--threads", "\"many\" (not a number)"}, {}},
+      {"compare " + scene + " --solvers dfsph,,wcsph --frames 2",
+       {"--solvers", "item 2 is empty"},
+       {}},
+      {"compare " + scene + " --solvers dfsph --frames 1,,2", {"--frames", "item 2 is empty"}, {}},
+      {"run " + scene +
+           " --set /fluid_blocks/0/min=[1,1,1] --set /fluid_blocks/0/max=[1.2,1.2,1.2]",
+       {"small.json:/fluid_blocks/0", "outside every box"},
+       {}},
       {"generate " + scene + " --trajectories 2 --split 0.5/0.5/0",
        {"--out", "cannot create"},
        dir / "small.json" / "data"},

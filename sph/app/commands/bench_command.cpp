@@ -4,6 +4,7 @@
 #include <iostream>
 #include <memory>
 
+#include "common/command_line.h"
 #include "common/exit_codes.h"
 #include "sph/app/commands/command.h"
 #include "sph/app/scene_runner.h"
@@ -67,7 +68,7 @@ Command add_bench_command(CLI::App& app, const CommandContext&) {
   c->add_option("--radius", o->radii, "Particle radii to run (default: the scene's)");
   c->add_option("--threads", o->threads, "OpenMP threads")
       ->capture_default_str()
-      ->check(CLI::PositiveNumber);
+      ->check(common::positive());
   c->add_option("--set", o->overrides, "Override a scene value: /json/pointer=value");
   c->add_option("--compare", o->compare_solvers,
                 "Compare solvers on the scene, runs alternating (e.g. mtdf,dfsph); the "
@@ -75,7 +76,7 @@ Command add_bench_command(CLI::App& app, const CommandContext&) {
       ->delimiter(',');
   c->add_option("--repeat", o->repeat, "Runs of each solver with --compare")
       ->capture_default_str()
-      ->check(CLI::PositiveNumber);
+      ->check(common::positive());
   return {c, [o] {
             const int threads = use_threads(o->threads);
             const nlohmann::json out =

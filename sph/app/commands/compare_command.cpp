@@ -10,6 +10,7 @@
 #include <iostream>
 #include <memory>
 
+#include "common/command_line.h"
 #include "sph/app/commands/command.h"
 #include "sph/app/solver_table.h"
 
@@ -18,6 +19,7 @@ namespace sph {
 namespace {
 struct CompareCommandOptions {
   SolverTableRequest table;
+  std::string solvers, frames;  // comma-separated, split by common::split_list
   std::string out_dir;
   int threads = 0;
 };
@@ -30,19 +32,17 @@ Command add_compare_command(CLI::App& app, const CommandContext& context) {
       "Run a scene with each solver; write a table (table.md, table.json) and a picture grid "
       "(views.png)");
   c->add_option("--scene", o->table.scene_file, "Scene JSON file")->required();
-  c->add_option("--solvers", o->table.solvers,
+  c->add_option("--solvers", o->solvers,
                 "Registered solvers, comma-separated, in column order (e.g. wcsph,dfsph,mtdf)")
-      ->required()
-      ->delimiter(',');
-  c->add_option("--frames", o->table.frames,
+      ->required();
+  c->add_option("--frames", o->frames,
                 "Moments, increasing, in frames of the scene's output/frame_dt, "
                 "comma-separated (e.g. 40,80,120); every solver runs to the last")
-      ->required()
-      ->delimiter(',');
+      ->required();
   c->add_option("--out", o->out_dir, "Output folder (not replaced unless --force)")->required();
   c->add_option("--set", o->table.overrides, "Override a scene value: /json/pointer=value");
   c->add_option("--threads", o->threads, "OpenMP threads (default: all cores)")
-      ->check(CLI::PositiveNumber);
+      ->check(common::positive());
   c->add_flag("--force", o->table.force,
               "Replace an earlier compare folder (removed after the new one is written)");
   c->footer(
@@ -53,6 +53,8 @@ Command add_compare_command(CLI::App& app, const CommandContext& context) {
   return {c, [o, context] {
             context.catch_stop_signals();
             SolverTableRequest table = o->table;
+            table.solvers = common::split_list(o->solvers, "--solvers");
+            table.frames = common::split_int_list(o->frames, "--frames");
             table.out_dir = o->out_dir;
             table.threads = use_threads(o->threads);
             table.stop = context.stop;

@@ -4,6 +4,7 @@
 #include <iostream>
 #include <memory>
 
+#include "common/command_line.h"
 #include "common/output_folder.h"
 #include "sph/app/commands/command.h"
 #include "sph/generation/dataset_folder.h"
@@ -27,7 +28,7 @@ Command add_generate_command(CLI::App& app, const CommandContext& context) {
   c->add_option("--scene", g.scene_file, "Scene JSON file")->required();
   c->add_option("--trajectories", g.trajectories, "Number of trajectories")
       ->required()
-      ->check(CLI::PositiveNumber);
+      ->check(common::positive());
   c->add_option("--out", o->out_dir, "Dataset folder (resumed if it holds a partial run)")
       ->required();
   c->add_option("--vary", o->vary, "Draw a scene value per trajectory: /pointer=LO:HI");
@@ -35,15 +36,15 @@ Command add_generate_command(CLI::App& app, const CommandContext& context) {
   c->add_option("--split", o->split, "Train/valid/test fractions")->capture_default_str();
   c->add_option("--frames", g.frames,
                 "Recorded frames per trajectory after the warm-up (default: to the end)")
-      ->check(CLI::PositiveNumber);
+      ->check(common::positive());
   c->add_option("--warm-up", g.warm_up,
                 "Seconds simulated before recording (default: the first leak's start)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(common::non_negative());
   c->add_option("--set", g.overrides, "Override a scene value: /json/pointer=value");
   c->add_option("--threads", o->threads,
                 "OpenMP threads (1, the default, makes datasets bit-reproducible)")
       ->capture_default_str()
-      ->check(CLI::PositiveNumber);
+      ->check(common::positive());
   return {c, [o, context] {
             context.catch_stop_signals();
             GenerateOptions options = o->generate;

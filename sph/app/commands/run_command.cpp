@@ -6,6 +6,7 @@
 #include <iostream>
 #include <memory>
 
+#include "common/command_line.h"
 #include "sph/app/commands/command.h"
 #include "sph/app/scene_runner.h"
 #include "sph/scene/scene_loader.h"
@@ -28,7 +29,7 @@ Command add_run_command(CLI::App& app, const CommandContext& context) {
   c->add_option("--out", o->out_dir, "Output folder (not replaced unless --force)")->required();
   c->add_option("--set", o->overrides, "Override a scene value: /json/pointer=value");
   c->add_option("--threads", o->threads, "OpenMP threads (default: all cores)")
-      ->check(CLI::PositiveNumber);
+      ->check(common::positive());
   c->add_flag("--ply", o->run.ply, "Write a PLY file per frame");
   c->add_flag("--png", o->run.png, "Write side- and top-view PNG pictures per frame");
   c->add_flag(
@@ -38,7 +39,7 @@ Command add_run_command(CLI::App& app, const CommandContext& context) {
                 "Continue from a state saved by --save-state-at (e.g. after a river's warm-up)");
   c->add_option("--save-state-at", o->run.save_state_at,
                 "Save the state at this frame time to DIR/state.h5")
-      ->check(CLI::NonNegativeNumber);
+      ->check(common::non_negative());
   return {c, [o, context] {
             context.catch_stop_signals();
             const LoadedScene scene = load_scene(o->scene_file, o->overrides);
