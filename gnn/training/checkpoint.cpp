@@ -259,6 +259,14 @@ void write_weights_only(const std::string& from, const std::string& to, bool rep
     }
   }
   LoadedCheckpoint c = load_checkpoint(from);
+  // The folder it goes into, made as other --out folders are; a path under a file is bad input
+  // (it was a write failure, exit 1).
+  const auto folder = std::filesystem::absolute(to).parent_path();
+  std::filesystem::create_directories(folder, ignored);
+  if (!std::filesystem::is_directory(folder, ignored))
+    throw CheckpointError(
+        to + ": cannot create its folder " + folder.string() +
+        (std::filesystem::exists(folder, ignored) ? " (a file is in the way)" : ""));
   save_checkpoint(to, *c.simulator, c.data, c.state, nullptr);
 }
 

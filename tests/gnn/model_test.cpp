@@ -668,6 +668,26 @@ TEST(PagatModel, AStudentTrainsAgainstAFrozenTeacher) {
   }
 }
 
+// A model that diverges (here a weight made NaN) stops the rollout with an error naming the
+// trajectory and the frame; it surfaced as "radius graph: a fluid position is not finite",
+// naming neither.
+TEST(Rollout, ADivergingModelIsNamedWithTheTrajectoryAndFrame) {
+  Tiny data("diverging_rollout");
+  auto sim = data.simulator();
+  {
+    torch::NoGradGuard no_grad;
+    sim->model().parameters().back().fill_(std::nan(""));
+  }
+  try {
+    gnn::rollout(*sim, data.trajectory, 5, 4, data.metadata.frame_dt);
+    ADD_FAILURE() << "a rollout of NaN positions went on";
+  } catch (const std::runtime_error& e) {
+    const std::string m = e.what();
+    EXPECT_NE(m.find(data.trajectory.source), std::string::npos) << m;
+    EXPECT_NE(m.find("diverged at rollout frame 1"), std::string::npos) << m;
+  }
+}
+
 // Zero physical acceleration (not a normalised zero: the tiny dataset's mean acceleration is
 // gravity and drag), so a rollout moves every fluid particle by its last displacement, frame
 // after frame; emitted particles enter on the recorded schedule and then keep their velocity.

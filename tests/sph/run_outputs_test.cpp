@@ -410,6 +410,17 @@ TEST(RunOutputs, BadRunRequestsExitTwoNamingTheFileAndKey) {
        {"--out", "cannot create"},
        dir / "small.json" / "data"},
   };
+  // A leak after the end is what a warm-up run wants: it runs, and says the leak releases
+  // nothing (it was silent).
+  const Exit warm_up =
+      run_sim("run --scene " + std::string(SPILL_SOURCE_DIR) +
+                  "/configs/scenes/river_small.json --set /end_time=0.05 --set /leaks/0/start=1 " +
+                  "--threads 1 --out " + (dir / "warm_up").string(),
+              dir);
+  EXPECT_EQ(warm_up.code, 0) << warm_up.err;
+  EXPECT_NE(warm_up.err.find("note: /leaks/0 starts at 1 s, at or after /end_time"),
+            std::string::npos)
+      << warm_up.err;
   for (const Case& c : cases) {
     const fs::path out = c.out.empty() ? dir / "out" : c.out;
     const Exit e = run_sim(c.arguments + " --out " + out.string(), dir);
