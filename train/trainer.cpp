@@ -405,6 +405,24 @@ void Trainer::stop_if_requested(int64_t kept_step) const {
                           std::to_string(kept_step) + " (--resume goes on from there)");
 }
 
+// One Adam step at learning rate `lr` on a sampled batch; returns its loss.
+double Trainer::gradient_step(double lr) {
+  for (auto& group : optimizer_->param_groups())
+    static_cast<torch::optim::AdamOptions&>(group.options()).lr(lr);
+  auto batch = sample_batch();
+  optimizer_->zero_grad();
+  auto l = loss(batch);
+  l.backward();
+  optimizer_->step();
+  ++state_.step;
+  const double value = l.item<double>();
+  if (!std::isfinite(value))
+    throw std::runtime_error(options_.config_file + ": training diverged: the loss is " +
+                             std::to_string(value) + " at step " + std::to_string(state_.step) +
+                             " (a lower /lr_max may train)");
+  return value;
+}
+
 double Trainer::train_steps() {
   const auto& c = config_.training;
   if (state_.step >= c.steps && options_.log)
@@ -435,19 +453,7 @@ double Trainer::train_steps() {
   while (state_.step < c.steps) {
     stop_if_requested(kept_step);
     const double lr = learning_rate(c, state_.step);
-    for (auto& group : optimizer_->param_groups())
-      static_cast<torch::optim::AdamOptions&>(group.options()).lr(lr);
-    auto batch = sample_batch();
-    optimizer_->zero_grad();
-    auto l = loss(batch);
-    l.backward();
-    optimizer_->step();
-    ++state_.step;
-    const double value = l.item<double>();
-    if (!std::isfinite(value))
-      throw std::runtime_error(options_.config_file + ": training diverged: the loss is " +
-                               std::to_string(value) + " at step " + std::to_string(state_.step) +
-                               " (a lower /lr_max may train)");
+    const double value = gradient_step(lr);
     loss_sum += value;
     ++loss_count;
     const bool validate_now = state_.step % c.validate_every == 0 || state_.step == c.steps;

@@ -71,6 +71,7 @@ class Trainer {
 
  private:
   double train_steps();  // run() without the clean-up of a failed new run folder
+  double gradient_step(double lr);
   std::string open_run_folder() const;
   void stop_if_requested(int64_t kept_step) const;
   void validate(double& one_step_loss, double& rollout_mse);

@@ -113,6 +113,26 @@ void save_checkpoint(const std::string& path, LearnedSimulator& simulator,
 
 namespace {
 
+// Into `state`, the training progress a checkpoint stores beside the model (its training config
+// is read with the configs): what --resume continues from.
+void read_training_state(torch::serialize::InputArchive& archive, const std::string& path,
+                         TrainingState& state) {
+  torch::Tensor step, elapsed, sampler;
+  if (archive.try_read("step", step)) state.step = step.item<int64_t>();
+  if (archive.try_read("elapsed_s", elapsed)) state.elapsed_s = elapsed.item<double>();
+  if (archive.try_read("sampler_state", sampler)) state.sampler_state = tensor_text(sampler);
+  torch::Tensor teacher;
+  if (archive.try_read("teacher", teacher)) {
+    try {
+      state.teacher = nlohmann::json::parse(tensor_text(teacher));
+    } catch (const nlohmann::json::exception&) {
+      throw CheckpointError(path + ": its record of the teacher is not valid JSON");
+    }
+  }
+  torch::Tensor generator;
+  if (archive.try_read("noise_generator_state", generator)) state.noise_generator_state = generator;
+}
+
 LoadedCheckpoint load_unchecked(const std::string& path,
                                 const std::optional<std::string>& expected_model) {
   if (!std::filesystem::exists(path)) throw CheckpointError(path + ": no such checkpoint file");
@@ -190,21 +210,7 @@ LoadedCheckpoint load_unchecked(const std::string& path,
                           "damaged or was altered)");
   out.simulator =
       std::make_unique<LearnedSimulator>(model, n, bounds, out.data.value("particle_radius", 0.0));
-  torch::Tensor step, elapsed, sampler;
-  if (archive.try_read("step", step)) out.state.step = step.item<int64_t>();
-  if (archive.try_read("elapsed_s", elapsed)) out.state.elapsed_s = elapsed.item<double>();
-  if (archive.try_read("sampler_state", sampler)) out.state.sampler_state = tensor_text(sampler);
-  torch::Tensor teacher;
-  if (archive.try_read("teacher", teacher)) {
-    try {
-      out.state.teacher = nlohmann::json::parse(tensor_text(teacher));
-    } catch (const nlohmann::json::exception&) {
-      throw CheckpointError(path + ": its record of the teacher is not valid JSON");
-    }
-  }
-  torch::Tensor generator;
-  if (archive.try_read("noise_generator_state", generator))
-    out.state.noise_generator_state = generator;
+  read_training_state(archive, path, out.state);
   return out;
 }
 
