@@ -96,6 +96,28 @@ inline std::vector<int> split_int_list(const std::string& text, const std::strin
   return numbers;
 }
 
+// Checks that `input` is a whole number from `lo` to `hi` (counts with a sensible ceiling, such as
+// iterations per frame: a huge one ran for minutes with no output).
+inline CLI::Validator whole_number_in(long lo, long hi) {
+  const std::string wanted =
+      "a whole number from " + std::to_string(lo) + " to " + std::to_string(hi);
+  return CLI::Validator(
+      [lo, hi, wanted](std::string& input) -> std::string {
+        long value = 0;
+        size_t used = 0;
+        try {
+          value = std::stol(input, &used);
+        } catch (const std::exception&) {
+          used = 0;
+        }
+        if (used == 0 || used != input.size())
+          return "expected " + wanted + ", got \"" + input + "\"";
+        if (value < lo || value > hi) return "expected " + wanted + ", got " + input;
+        return "";
+      },
+      std::to_string(lo) + ".." + std::to_string(hi));
+}
+
 // Parses the command line; returns the exit code when the program must stop (help shown, or an
 // error printed), nothing when it goes on. Errors are printed as every other error is,
 // "PROGRAM: error: WHAT" (exit_codes.h's report_error), with a pointer to --help.

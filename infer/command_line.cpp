@@ -24,8 +24,9 @@ void add_common(CLI::App* c, CommonOptions& o) {
   c->add_option("--device", o.device, "where the model runs: cpu (default) or cuda[:N]");
   c->add_option("--relax", o.relax,
                 "after each learned frame, this many iterations of the simulator's "
-                "constant-density correction on the predicted positions (default 0: off)")
-      ->check(common::non_negative());
+                "constant-density correction on the predicted positions (default 0: off; at "
+                "most 100)")
+      ->check(common::whole_number_in(0, 100));
 }
 }  // namespace
 
@@ -79,8 +80,9 @@ CLI::App* add_compare_command(CLI::App& app, CompareOptions& compare) {
   c->add_option("--device", compare.device, "where the models run: cpu (default) or cuda[:N]");
   c->add_option("--relax", compare.relax,
                 "after each learned frame, this many iterations of the simulator's "
-                "constant-density correction on the predicted positions (default 0: off)")
-      ->check(common::non_negative());
+                "constant-density correction on the predicted positions (default 0: off; at "
+                "most 100)")
+      ->check(common::whole_number_in(0, 100));
   return c;
 }
 

@@ -84,6 +84,13 @@ TEST(Cli, TrainRollOutAndEvaluateOnATinyDataset) {
   EXPECT_EQ(run(train + " --out " + run_dir), 2);
   EXPECT_EQ(fs::last_write_time(run_dir + "/last.pt"), trained);
   EXPECT_EQ(run(train + " --out " + data + "/metadata.json/run"), 2);
+  // --relax is a whole number up to 100 (a billion ran for minutes with no output).
+  for (const char* relax : {"1000000000", "-1", "abc", "2.5"})
+    EXPECT_EQ(
+        run(infer + " eval" + ckpt + " --relax " + relax + " --out " + (dir / "relaxed").string()),
+        2)
+        << relax;
+  EXPECT_FALSE(fs::exists(dir / "relaxed"));
   // Resuming with fewer steps than were trained did nothing and exited 0 without a word.
   EXPECT_EQ(run(train + " --out " + run_dir + " --resume --set /steps=10"), 2);
   EXPECT_EQ(fs::last_write_time(run_dir + "/last.pt"), trained);
