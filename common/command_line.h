@@ -27,6 +27,27 @@ inline std::string written(double value) {
   return s.str();
 }
 
+// The whole of `text` as a number (std::stod) or a whole number (std::stol); nothing when it is
+// not one ("abc", "2x", "", out of the type's range).
+inline std::optional<double> parse_number(const std::string& text) {
+  try {
+    size_t used = 0;
+    const double value = std::stod(text, &used);
+    if (used == text.size() && std::isfinite(value)) return value;
+  } catch (const std::exception&) {
+  }
+  return std::nullopt;
+}
+inline std::optional<long> parse_whole_number(const std::string& text) {
+  try {
+    size_t used = 0;
+    const long value = std::stol(text, &used);
+    if (used == text.size()) return value;
+  } catch (const std::exception&) {
+  }
+  return std::nullopt;
+}
+
 // Checks that `input` is a number above (or, with `inclusive`, at least) `bound`; "" when it is,
 // else what a person reads. A word is "not a number", not "out of range".
 inline CLI::Validator number_from(double bound, bool inclusive) {
@@ -34,16 +55,9 @@ inline CLI::Validator number_from(double bound, bool inclusive) {
       (inclusive ? "a number of at least " : "a number above ") + written(bound);
   return CLI::Validator(
       [bound, inclusive, wanted](std::string& input) -> std::string {
-        double value = 0;
-        size_t used = 0;
-        try {
-          value = std::stod(input, &used);
-        } catch (const std::exception&) {
-          used = 0;
-        }
-        if (used == 0 || used != input.size() || !std::isfinite(value))
-          return "expected " + wanted + ", got \"" + input + "\" (not a number)";
-        if (inclusive ? !(value >= bound) : !(value > bound))
+        const std::optional<double> value = parse_number(input);
+        if (!value) return "expected " + wanted + ", got \"" + input + "\" (not a number)";
+        if (inclusive ? !(*value >= bound) : !(*value > bound))
           return "expected " + wanted + ", got " + input;
         return "";
       },
@@ -82,16 +96,10 @@ inline std::vector<std::string> split_list(const std::string& text, const std::s
 inline std::vector<int> split_int_list(const std::string& text, const std::string& option) {
   std::vector<int> numbers;
   for (const std::string& item : split_list(text, option)) {
-    size_t used = 0;
-    int value = 0;
-    try {
-      value = std::stoi(item, &used);
-    } catch (const std::exception&) {
-      used = 0;
-    }
-    if (used == 0 || used != item.size())
+    const std::optional<long> value = detail::parse_whole_number(item);
+    if (!value || *value != long(int(*value)))
       throw InputError(option + " " + text + ": \"" + item + "\" is not a whole number");
-    numbers.push_back(value);
+    numbers.push_back(int(*value));
   }
   return numbers;
 }
@@ -103,16 +111,9 @@ inline CLI::Validator whole_number_in(long lo, long hi) {
       "a whole number from " + std::to_string(lo) + " to " + std::to_string(hi);
   return CLI::Validator(
       [lo, hi, wanted](std::string& input) -> std::string {
-        long value = 0;
-        size_t used = 0;
-        try {
-          value = std::stol(input, &used);
-        } catch (const std::exception&) {
-          used = 0;
-        }
-        if (used == 0 || used != input.size())
-          return "expected " + wanted + ", got \"" + input + "\"";
-        if (value < lo || value > hi) return "expected " + wanted + ", got " + input;
+        const std::optional<long> value = detail::parse_whole_number(input);
+        if (!value) return "expected " + wanted + ", got \"" + input + "\"";
+        if (*value < lo || *value > hi) return "expected " + wanted + ", got " + input;
         return "";
       },
       std::to_string(lo) + ".." + std::to_string(hi));

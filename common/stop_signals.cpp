@@ -2,8 +2,6 @@
 
 #include <csignal>
 
-#include "common/exit_codes.h"
-
 namespace common {
 
 namespace {
@@ -23,12 +21,6 @@ const std::atomic<bool>* stop_flag() {
 void catch_stop_signals() {
   std::signal(SIGINT, request_stop);
   std::signal(SIGTERM, request_stop);
-}
-
-void throw_if_stopped(const std::atomic<bool>* stop, const std::string& where,
-                      const std::string& kept) {
-  if (stop && stop->load())
-    throw Interrupted("interrupted " + where + (kept.empty() ? "" : "; " + kept));
 }
 
 }  // namespace common

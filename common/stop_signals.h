@@ -7,6 +7,8 @@
 #include <atomic>
 #include <string>
 
+#include "common/exit_codes.h"
+
 namespace common {
 
 // The flag the handlers set. A signal handler can reach only static storage, so this is the
@@ -17,8 +19,12 @@ const std::atomic<bool>* stop_flag();
 // polls the flag; before, a signal ends the process at once (nothing was written yet).
 void catch_stop_signals();
 
-// Throws Interrupted("interrupted WHERE; KEPT") when `stop` is set; null never stops.
-void throw_if_stopped(const std::atomic<bool>* stop, const std::string& where,
-                      const std::string& kept);
+// Throws Interrupted("interrupted " + message()) when `stop` is set; null never stops. The
+// message ("at step 9 of 100; RUN/last.pt keeps step 5") is built only then: loops poll this
+// every training step or rollout frame.
+template <class Message>
+void throw_if_stopped(const std::atomic<bool>* stop, const Message& message) {
+  if (stop && stop->load()) throw Interrupted("interrupted " + message());
+}
 
 }  // namespace common

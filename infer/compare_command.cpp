@@ -350,14 +350,14 @@ void run_compare(const CompareOptions& o) {
     std::vector<TrajectoryScores> scores;
     for (size_t k = 0; k < c.trajectories.size(); ++k) {
       gnn::RolloutResult kept;
-      scores.push_back(score_rollout(
-          sim, c.trajectories[k], m, c.scenes[k].get(), c.recorded[k], o.from, c.frames[k], o.relax,
-          k == 0 ? &kept : nullptr, [&](int64_t frame) {
-            common::throw_if_stopped(o.stop,
-                                     "at frame " + std::to_string(frame) + " of " + model.name +
-                                         " on " + c.trajectories[k].source,
-                                     "nothing written");
-          }));
+      scores.push_back(
+          score_rollout(sim, c.trajectories[k], m, c.scenes[k].get(), c.recorded[k], o.from,
+                        c.frames[k], o.relax, k == 0 ? &kept : nullptr, [&](int64_t frame) {
+                          common::throw_if_stopped(o.stop, [&] {
+                            return "at frame " + std::to_string(frame) + " of " + model.name +
+                                   " on " + c.trajectories[k].source + "; nothing written";
+                          });
+                        }));
       if (k == 0) pictured.push_back(std::move(kept));
       if (progress) progress->update(++done, model.name + " " + c.trajectories[k].source);
     }

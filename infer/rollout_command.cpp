@@ -118,7 +118,8 @@ void run_rollout(const RolloutOptions& o) {
       *d.checkpoint.simulator, t, o.from, frames, d.metadata.frame_dt,
       [&](int64_t k) {
         if (progress) progress->update(k, "");
-        common::throw_if_stopped(o.common.stop, "at frame " + std::to_string(k), "nothing written");
+        common::throw_if_stopped(
+            o.common.stop, [&] { return "at frame " + std::to_string(k) + "; nothing written"; });
       },
       relaxation_hook(scene.get(), o.common.relax));
   if (progress) progress->finish("");

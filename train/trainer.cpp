@@ -396,13 +396,14 @@ std::string Trainer::open_run_folder() const {
 // `kept_step` is the step of its checkpoint, or -1 before the first (run() then removes a new
 // run's folder).
 void Trainer::stop_if_requested(int64_t kept_step) const {
-  common::throw_if_stopped(
-      options_.stop,
-      "at step " + std::to_string(state_.step) + " of " + std::to_string(config_.training.steps),
-      kept_step < 0 ? "no checkpoint was written yet, so the new run folder " + options_.out_dir +
-                          " is removed"
-                    : checkpoint_path(options_.out_dir) + " keeps step " +
-                          std::to_string(kept_step) + " (--resume goes on from there)");
+  common::throw_if_stopped(options_.stop, [&] {
+    return "at step " + std::to_string(state_.step) + " of " +
+           std::to_string(config_.training.steps) + "; " +
+           (kept_step < 0 ? "no checkpoint was written yet, so the new run folder " +
+                                options_.out_dir + " is removed"
+                          : checkpoint_path(options_.out_dir) + " keeps step " +
+                                std::to_string(kept_step) + " (--resume goes on from there)");
+  });
 }
 
 // One Adam step at learning rate `lr` on a sampled batch; returns its loss.

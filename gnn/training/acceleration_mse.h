@@ -1,6 +1,6 @@
 #pragma once
-// docs/models.md's L_acc, the objective of GNS and DPI-Nets: the mean squared error of the normalised
-// acceleration over the fluid particles that are active in the next frame ("acc"), plus
+// docs/models.md's L_acc, the objective of GNS and DPI-Nets: the mean squared error of the
+// normalised acceleration over the fluid particles that are active in the next frame ("acc"), plus
 // oil_fraction_loss_weight times the mean squared error of the normalised change of the oil
 // fraction over the same particles ("frac"): every model is a surrogate of both what MTDF-SPH
 // moves and how it moves oil between particles. PAGATNet's objective uses it as its L_acc.

@@ -10,6 +10,7 @@
 
 #include "common/checked_file.h"
 #include "common/fnv1a.h"
+#include "common/hdf5_handles.h"
 #include "common/json_shape.h"
 #include "common/output_folder.h"
 #include "sph/core/config.h"
@@ -64,21 +65,17 @@ nlohmann::json file_identity(const fs::path& file) {
 
 // [frames, particles] of a part file's positions; nullopt when it has none readable.
 std::optional<std::array<hsize_t, 2>> part_shape(const fs::path& file) {
-  const hid_t f = H5Fopen(file.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
-  if (f < 0) return std::nullopt;
-  std::optional<std::array<hsize_t, 2>> shape;
-  const hid_t ds = H5Dopen2(f, "00000/position", H5P_DEFAULT);
-  if (ds >= 0) {
-    const hid_t space = H5Dget_space(ds);
-    hsize_t dims[3] = {0, 0, 0};
-    if (space >= 0 && H5Sget_simple_extent_ndims(space) == 3 &&
-        H5Sget_simple_extent_dims(space, dims, nullptr) == 3)
-      shape = std::array<hsize_t, 2>{dims[0], dims[1]};
-    if (space >= 0) H5Sclose(space);
-    H5Dclose(ds);
-  }
-  H5Fclose(f);
-  return shape;
+  const common::QuietHdf5Errors quiet;  // a foreign or damaged part is reported by the caller
+  const common::Hdf5Handle f(H5Fopen(file.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose);
+  if (f.id < 0) return std::nullopt;
+  const common::Hdf5Handle ds(H5Dopen2(f.id, "00000/position", H5P_DEFAULT), H5Dclose);
+  if (ds.id < 0) return std::nullopt;
+  const common::Hdf5Handle space(H5Dget_space(ds.id), H5Sclose);
+  hsize_t dims[3] = {0, 0, 0};
+  if (space.id < 0 || H5Sget_simple_extent_ndims(space.id) != 3 ||
+      H5Sget_simple_extent_dims(space.id, dims, nullptr) != 3)
+    return std::nullopt;
+  return std::array<hsize_t, 2>{dims[0], dims[1]};
 }
 
 // The trajectories as part files in parts/, each written frame by frame to a temporary file and

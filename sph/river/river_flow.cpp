@@ -17,21 +17,28 @@ RiverFlow::RiverFlow(const FlowConfig& config, const Terrain& terrain, Real wate
       volume_(volume),
       water_(water),
       cooldown_(2 * frame_dt),
+      layer_(inflow_layer(config, terrain, water_level, spacing)),
       floor_z_(terrain.min_height() - 2 * spacing) {
+  interval_ = double(spacing) / double(config.speed);
+  const long reserve_layers = std::max(2L, std::lround(double(config.reserve_s) / interval_));
+  pool_.resize(size_t(reserve_layers) * layer_.size());
+}
+
+std::vector<Vec3> RiverFlow::inflow_layer(const FlowConfig& config, const Terrain& terrain,
+                                          Real water_level, Real spacing) {
   // The cross-section on the lattice the terrain fill uses: water columns spacing apart in y.
+  std::vector<Vec3> layer;
   const Real r = Real(0.5) * spacing, x = config.inflow_x;
   const int ny = int(std::floor((terrain.max_y() - terrain.origin_y) / spacing + Real(1e-4)));
   for (int iy = 0; iy < ny; ++iy) {
     const Real y = terrain.origin_y + r + Real(iy) * spacing;
     if (!terrain.is_water(x, y)) continue;
-    for (Real z : water_column(terrain, x, y, r, water_level)) layer_.emplace_back(x, y, z);
+    for (Real z : water_column(terrain, x, y, r, water_level)) layer.emplace_back(x, y, z);
   }
-  if (layer_.empty())
+  if (layer.empty())
     throw std::invalid_argument("the inflow plane x = " + std::to_string(x) +
                                 " crosses no water below the water level");
-  interval_ = double(spacing) / double(config.speed);
-  const long reserve_layers = std::max(2L, std::lround(double(config.reserve_s) / interval_));
-  pool_.resize(size_t(reserve_layers) * layer_.size());
+  return layer;
 }
 
 Real RiverFlow::inflow_rate() const {

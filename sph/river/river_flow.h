@@ -38,6 +38,10 @@ class RiverFlow {
   void after_step(FluidParticles& fluid, double t);
 
   const std::vector<Vec3>& layer() const { return layer_; }
+  // The inflow plane's cross-section of water below `water_level`, a particle per lattice site.
+  // Throws std::invalid_argument when the plane crosses no water (the scene check calls it).
+  static std::vector<Vec3> inflow_layer(const FlowConfig& config, const Terrain& terrain,
+                                        Real water_level, Real spacing);
   long fallen() const { return fallen_; }    // of the retired: those that left over a terrain edge
   long emitted() const { return emitted_; }  // particles activated at the inflow so far
   long retired() const { return retired_; }  // particles retired at the outflow so far

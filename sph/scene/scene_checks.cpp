@@ -192,8 +192,7 @@ void check_outlets(const SceneConfig& c, const std::string& file) {
   // The river's inflow plane must cross water (it was a "flow:" error naming no key, at the
   // start of the run).
   if (c.flow) try {
-      RiverFlow(*c.flow, *c.terrain_grid, c.terrain->water_level, spacing, volume, PhaseMix{},
-                double(c.output.frame_dt));
+      RiverFlow::inflow_layer(*c.flow, *c.terrain_grid, c.terrain->water_level, spacing);
     } catch (const std::invalid_argument& error) {
       throw ConfigError(file, "/flow/inflow_x", error.what());
     }

@@ -293,11 +293,7 @@ int main(int argc, char** argv) {
       problem = fuzz::describe(outcome) + " but changed " + k.unchanged_on_failure.string();
     if (problem.empty() && read_bytes(p.intact / "run" / "last.pt") != intact_before)
       problem = "changed the intact checkpoint";
-    report.add(outcome, problem, k.what, dir, log);
-    if (problem.empty() && !keep)
-      fs::remove_all(dir);
-    else if (!problem.empty())
-      std::cerr << "case " << c << ": " << problem << ": " << k.what << "\n";
+    report.add(outcome, problem, k.what, dir, log, keep);
     if ((c + 1) % 40 == 0) std::cerr << "command_fuzzer: " << c + 1 << "/" << cases << " cases\n";
   }
   std::cout << report

@@ -245,11 +245,7 @@ int main(int argc, char** argv) {
     const fs::path log = dir / "log.txt";
     const auto outcome = fuzz::run_child(command, log, timeout_s, limit);
     const std::string problem = fuzz::judge(outcome, log, dir, {"data", "run", "case.txt"});
-    report.add(outcome, problem, what, dir, log);
-    if (problem.empty() && !keep)
-      fs::remove_all(dir);
-    else if (!problem.empty())
-      std::cerr << "case " << c << ": " << problem << ": " << what << "\n";
+    report.add(outcome, problem, what, dir, log, keep);
     if ((c + 1) % 50 == 0) std::cerr << "data_fuzzer: " << c + 1 << "/" << cases << " cases\n";
   }
   std::cout << report

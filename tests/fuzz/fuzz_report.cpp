@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cctype>
 #include <fstream>
+#include <iostream>
 #include <iterator>
 
 namespace fuzz {
@@ -59,13 +60,18 @@ std::string error_kind(const fs::path& log) {
 }  // namespace
 
 void FuzzReport::add(const ChildOutcome& outcome, const std::string& problem,
-                     const std::string& what, const fs::path& case_dir, const fs::path& log) {
+                     const std::string& what, const fs::path& case_dir, const fs::path& log,
+                     bool keep) {
   ++cases_;
   if (problem.empty() && outcome.code == 1) ++exit1_messages_[error_kind(log)];
   ++counts_[problem.empty() ? describe(outcome) : "failed"];
   slowest_s_ = std::max(slowest_s_, outcome.seconds);
-  if (!problem.empty())
+  if (!problem.empty()) {
     failures_.push_back({{"problem", problem}, {"case", what}, {"folder", case_dir.string()}});
+    std::cerr << case_dir.filename().string() << ": " << problem << ": " << what << "\n";
+  } else if (!keep) {
+    fs::remove_all(case_dir);
+  }
 }
 
 nlohmann::json FuzzReport::summary(const std::string& fuzzer,

@@ -20,9 +20,10 @@ std::vector<std::string> leftovers(const std::filesystem::path& folder,
 class FuzzReport {
  public:
   // Records a case: `problem` is empty when it behaved (exit 0, 1 or 2 with a message, nothing
-  // left behind on failure).
+  // left behind on failure). A case that behaved has its folder removed (unless `keep`); one
+  // that did not keeps it and is named on stderr.
   void add(const ChildOutcome& outcome, const std::string& problem, const std::string& what,
-           const std::filesystem::path& case_dir, const std::filesystem::path& log);
+           const std::filesystem::path& case_dir, const std::filesystem::path& log, bool keep);
   bool passed() const { return failures_.empty(); }
   nlohmann::json summary(const std::string& fuzzer, const nlohmann::json& settings) const;
 

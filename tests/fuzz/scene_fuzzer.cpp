@@ -91,11 +91,7 @@ int main(int argc, char** argv) {
     const fs::path log = dir / "log.txt";
     const auto outcome = fuzz::run_child(command, log, timeout_s, memory_mb * 1048576.0);
     const std::string problem = fuzz::judge(outcome, log, dir, {"scene.json", "case.txt"});
-    report.add(outcome, problem, what, dir, log);
-    if (problem.empty() && !keep)
-      fs::remove_all(dir);
-    else if (!problem.empty())
-      std::cerr << "case " << c << ": " << problem << ": " << what << "\n";
+    report.add(outcome, problem, what, dir, log, keep);
     if ((c + 1) % 50 == 0) std::cerr << "scene_fuzzer: " << c + 1 << "/" << cases << " cases\n";
   }
   std::cout << report
