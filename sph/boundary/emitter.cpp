@@ -32,16 +32,26 @@ Emitter::Emitter(const EmitterConfig& config, Real spacing, Real volume, const P
                          (Real(j) - Real(nw - 1) / 2) * spacing * w);
   }
   const double duration = double(config.stop) - double(config.start);
-  const double layer_volume = double(volume) * double(layer_.size());
+  // Whole particles, not whole layers: rate x duration rounded to the nearest particle (a leak's
+  // volume is what a responder reads first; whole layers of a 30-particle outlet were 6 % off).
   // In double first: a huge rate once wrapped the 32-bit count to zero and emitted nothing.
-  const double layers = std::max(1.0, std::round(double(config.rate) * duration / layer_volume));
-  if (!(layers * double(layer_.size()) <= kMaxEmittedParticles))
+  const double particles =
+      std::max(1.0, std::round(double(config.rate) * duration / double(volume)));
+  if (!(particles <= kMaxEmittedParticles))
     throw EmitterRateError("a rate of " + std::to_string(config.rate) + " m^3/s for " +
-                           std::to_string(duration) + " s releases " +
-                           std::to_string(layers * double(layer_.size())) +
+                           std::to_string(duration) + " s releases " + std::to_string(particles) +
                            " particles; at most 1e8 are allowed per outlet");
-  layers_ = Index(layers);
-  interval_ = duration / double(layers_);
+  particles_ = Index(particles);
+  const Index per_layer = Index(layer_.size());
+  layers_ = (particles_ + per_layer - 1) / per_layer;
+  // The last layer holds the remainder, on sites spread evenly over the outlet.
+  const Index last = particles_ - (layers_ - 1) * per_layer;
+  for (Index j = 0; j < last; ++j)
+    last_sites_.push_back(Index(std::floor((double(j) + 0.5) * double(per_layer) / double(last))));
+  // Full layers leave at the cadence of the rate; the partial last one keeps that cadence (up to
+  // half an interval after the stop when it holds under half a layer), so no layer ever comes
+  // closer than a full interval behind the one before.
+  interval_ = duration * double(per_layer) / double(particles_);
   // A layer must have moved one spacing before the next one appears on top of it; slower
   // outflow would stack layers closer than the rest spacing and the pressure solve would blast
   // them apart.
@@ -56,8 +66,24 @@ Emitter::Emitter(const EmitterConfig& config, Real spacing, Real volume, const P
 void Emitter::allocate(FluidParticles& fluid) {
   first_id_ = fluid.size();
   const Vec3 velocity = config_.speed * direction_;
+  const Index per_layer = Index(layer_.size());
   for (Index k = 0; k < capacity(); ++k)
-    fluid.add(layer_[k % layer_.size()], velocity, volume_, mix_, /*active=*/false);
+    fluid.add(layer_[site(k / per_layer, k % per_layer)], velocity, volume_, mix_,
+              /*active=*/false);
+}
+
+double Emitter::due(Index layer) const {
+  const double start = double(config_.start);
+  // A single, partial layer leaves in the middle of the release.
+  if (layers_ == 1) return start + 0.5 * (double(config_.stop) - start);
+  return start + (double(layer) + 0.5) * interval_;
+}
+
+Index Emitter::layers_due(double t) const {
+  if (layers_ == 1) return due(0) <= t ? 1 : 0;
+  // Layer k leaves at start + (k + 1/2) interval (see due): the count follows without a loop.
+  const double layers = std::floor((t - double(config_.start)) / interval_ + 0.5 + 1e-9);
+  return Index(std::clamp(layers, 0.0, double(layers_)));
 }
 
 void Emitter::emit(FluidParticles& fluid, double t) {
@@ -65,12 +91,13 @@ void Emitter::emit(FluidParticles& fluid, double t) {
   while (emitted_layers_ < layers_) {
     // Each layer carries the volume of one interval and leaves at its middle, so the released
     // volume never differs from rate x elapsed time by more than half a layer.
-    const double due = double(config_.start) + (double(emitted_layers_) + 0.5) * interval_;
-    if (due > t) break;
-    const Real travelled = Real(t - due) * config_.speed;
-    for (size_t k = 0; k < layer_.size(); ++k) {
-      const Index id = first_id_ + emitted_layers_ * Index(layer_.size()) + Index(k);
-      fluid.activate(fluid.find_inactive(id), layer_[k] + travelled * direction_, velocity);
+    const double leaves = due(emitted_layers_);
+    if (leaves > t) break;
+    const Real travelled = Real(t - leaves) * config_.speed;
+    for (Index k = 0; k < layer_count(emitted_layers_); ++k) {
+      const Index id = first_id_ + emitted_layers_ * Index(layer_.size()) + k;
+      fluid.activate(fluid.find_inactive(id),
+                     layer_[site(emitted_layers_, k)] + travelled * direction_, velocity);
     }
     ++emitted_layers_;
   }
