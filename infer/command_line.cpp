@@ -4,6 +4,11 @@
 namespace infer {
 
 namespace {
+const char* const kReplayHelp =
+    "diagnosis only: particles enter and leave on the recording's schedule with their recorded "
+    "states, as a finished SPH run supplies them (default: standalone, the dataset's scene "
+    "releases and retires them)";
+
 void add_common(CLI::App* c, CommonOptions& o) {
   c->add_option("--checkpoint", o.checkpoint, "checkpoint (*.pt) written by spill-train")
       ->required();
@@ -27,6 +32,7 @@ void add_common(CLI::App* c, CommonOptions& o) {
                 "constant-density correction on the predicted positions (default 0: off; at "
                 "most 100)")
       ->check(common::whole_number_in(0, 100));
+  c->add_flag("--replay-recorded-sources", o.replay_recorded_sources, kReplayHelp);
 }
 }  // namespace
 
@@ -83,7 +89,40 @@ CLI::App* add_compare_command(CLI::App& app, CompareOptions& compare) {
                 "constant-density correction on the predicted positions (default 0: off; at "
                 "most 100)")
       ->check(common::whole_number_in(0, 100));
+  c->add_flag("--replay-recorded-sources", compare.replay_recorded_sources, kReplayHelp);
   return c;
+}
+
+CLI::App* add_predict_command(CLI::App& app, PredictOptions& o) {
+  auto* p = app.add_subcommand(
+      "predict",
+      "forecast a scene with a learned simulator, no recording needed: the scene's own sources "
+      "and sinks release and retire particles; writes the run folder of spill-sim run");
+  p->add_option("--checkpoint", o.checkpoint, "checkpoint (*.pt) written by spill-train")
+      ->required()
+      ->check(CLI::ExistingFile);
+  p->add_option("--scene", o.scene_file, "scene JSON file")->required();
+  p->add_option("--out", o.out_dir, "output folder (an earlier run folder is replaced)")
+      ->required();
+  p->add_option("--set", o.overrides, "override a scene value: /json/pointer=value");
+  p->add_option("--initial-state", o.initial_state,
+                "start from a state saved by spill-sim run --save-state-at (e.g. a warmed-up "
+                "river)")
+      ->check(CLI::ExistingFile);
+  p->add_option("--end-time", o.end_time, "end of the forecast (s; default: the scene's)")
+      ->check(common::positive());
+  p->add_flag("--png", o.png, "write side-, top- and river-view pictures of every frame");
+  p->add_option("--relax", o.relax,
+                "after each learned frame, this many iterations of the simulator's "
+                "constant-density correction on the predicted positions (default 0: off; at "
+                "most 100)")
+      ->check(common::whole_number_in(0, 100));
+  p->add_option("--threads", o.threads, "cores to use (default 2)")->check(common::positive());
+  p->add_option("--blas-threads", o.blas_threads,
+                "OpenBLAS threads, with --threads LibTorch threads (default: the measured best "
+                "split for the model)")
+      ->check(common::positive());
+  return p;
 }
 
 CLI::App* add_export_command(CLI::App& app, ExportOptions& o) {

@@ -18,6 +18,7 @@ struct ExportOptions {
 CLI::App* add_rollout_command(CLI::App& app, RolloutOptions& options);
 CLI::App* add_eval_command(CLI::App& app, EvalOptions& options);
 CLI::App* add_compare_command(CLI::App& app, CompareOptions& options);
+CLI::App* add_predict_command(CLI::App& app, PredictOptions& options);
 CLI::App* add_export_command(CLI::App& app, ExportOptions& options);
 
 }  // namespace infer

@@ -2,6 +2,7 @@
 // The subcommands of spill-infer.
 
 #include <atomic>
+#include <nlohmann/json.hpp>
 #include <ostream>
 #include <string>
 #include <vector>
@@ -18,6 +19,9 @@ struct CommonOptions {
   int blas_threads = 0;        // 0: the measured best split for the model (gnn::inference_runtime)
   std::string device = "cpu";  // where the model runs; the data pipeline stays on the CPU
   int relax = 0;               // iterations of the SPH density correction after each learned frame
+  // Diagnosis: particles enter and leave on the recording's schedule, with recorded states,
+  // instead of from the dataset's scene (--replay-recorded-sources).
+  bool replay_recorded_sources = false;
   // Set by Ctrl-C or SIGTERM (common/stop_signals.h): stop at the next frame, writing nothing.
   const std::atomic<bool>* stop = nullptr;
 };
@@ -50,9 +54,33 @@ struct CompareOptions {
   int blas_threads = 0;  // 0: the measured best split for each model
   std::string device = "cpu";
   int relax = 0;  // iterations of the SPH density correction after each learned frame
+  bool replay_recorded_sources = false;  // as CommonOptions's
   std::ostream* log = nullptr;
   const std::atomic<bool>* stop = nullptr;  // as CommonOptions::stop
 };
+
+// A forecast from a scene alone: the learned simulator moves the particles, the scene's own
+// sources and sinks release and retire them (gnn/eval/scene_rollout.h).
+struct PredictOptions {
+  std::string checkpoint;
+  std::string scene_file;
+  std::vector<std::string> overrides;  // --set /pointer=value
+  std::string initial_state;           // a state saved by spill-sim run --save-state-at
+  double end_time = -1;                // > 0: the scene's /end_time replaced
+  std::string out_dir;
+  bool png = false;
+  int relax = 0;
+  int threads = 2;
+  int blas_threads = 0;
+  std::ostream* log = nullptr;
+  bool terminal = false;                    // progress as a redrawn bar
+  const std::atomic<bool>* stop = nullptr;  // as CommonOptions::stop
+};
+
+// The run folder of `spill-sim run` (metadata.json naming the checkpoint, trajectory.h5,
+// stats.json, spill.json and spill.svg, png/ on request) from the model instead of the solver.
+// Returns stats.json's summary.
+nlohmann::json run_predict(const PredictOptions& options);
 
 // Predicted trajectory in the data contract (OUT/rollout.h5, OUT/metadata.json), side-by-side
 // top views (OUT/frames/), and timing against the SPH (OUT/timing.json).

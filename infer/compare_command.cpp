@@ -263,7 +263,12 @@ std::string comparison_markdown(const CompareOptions& o, const gnn::DatasetMetad
   md << "# Learned simulators compared\n\n"
      << trajectories << " trajectories of `" << o.data_dir << "` (" << o.split
      << " split), each rolled out from frame " << o.from << " (frames " << m.frame_dt
-     << " s apart) on " << o.threads << " threads"
+     << " s apart) on " << o.threads << " threads, "
+     << (o.replay_recorded_sources
+             ? "particles entering and leaving on the recording's schedule with recorded states "
+               "(--replay-recorded-sources: a diagnosis, not a forecast)"
+             : "standalone: the dataset's scene releases and retires particles, nothing after "
+               "the first frame comes from the recording")
      << (o.relax > 0 ? ", each learned frame relaxed by " + std::to_string(o.relax) +
                            " iterations of the simulator's density correction"
                      : "")
@@ -319,6 +324,7 @@ void write_comparison_picture(const fs::path& file, const ComparedTrajectories& 
 void run_compare(const CompareOptions& o) {
   if (o.checkpoints.empty() && !o.constant_velocity)
     throw common::InputError("compare: give --checkpoints, --constant-velocity or both");
+  const Sources rollout_sources = sources_of(o.replay_recorded_sources);
   common::OutputFolderPolicy policy;
   policy.markers = {"comparison.json", "comparison.md"};  // teacher_student.md: optional
   policy.replace = true;
@@ -350,14 +356,14 @@ void run_compare(const CompareOptions& o) {
     std::vector<TrajectoryScores> scores;
     for (size_t k = 0; k < c.trajectories.size(); ++k) {
       gnn::RolloutResult kept;
-      scores.push_back(
-          score_rollout(sim, c.trajectories[k], m, c.scenes[k].get(), c.recorded[k], o.from,
-                        c.frames[k], o.relax, k == 0 ? &kept : nullptr, [&](int64_t frame) {
-                          common::throw_if_stopped(o.stop, [&] {
-                            return "at frame " + std::to_string(frame) + " of " + model.name +
-                                   " on " + c.trajectories[k].source + "; nothing written";
-                          });
-                        }));
+      scores.push_back(score_rollout(
+          sim, c.trajectories[k], m, c.scenes[k].get(), c.recorded[k], o.from, c.frames[k],
+          rollout_sources, o.relax, k == 0 ? &kept : nullptr, [&](int64_t frame) {
+            common::throw_if_stopped(o.stop, [&] {
+              return "at frame " + std::to_string(frame) + " of " + model.name + " on " +
+                     c.trajectories[k].source + "; nothing written";
+            });
+          }));
       if (k == 0) pictured.push_back(std::move(kept));
       if (progress) progress->update(++done, model.name + " " + c.trajectories[k].source);
     }
@@ -371,11 +377,17 @@ void run_compare(const CompareOptions& o) {
   nlohmann::json sources = nlohmann::json::array();
   for (size_t k = 0; k < c.trajectories.size(); ++k)
     sources.push_back({{"source", c.trajectories[k].source}, {"frames", c.frames[k]}});
-  const nlohmann::json result = {{"data", o.data_dir},   {"split", o.split},
-                                 {"from_frame", o.from}, {"frame_dt", m.frame_dt},
-                                 {"threads", o.threads}, {"relax_iterations", o.relax},
-                                 {"units", kUnits},      {"models", rows},
-                                 {"sph", sph},           {"trajectories", sources}};
+  const nlohmann::json result = {{"data", o.data_dir},
+                                 {"split", o.split},
+                                 {"from_frame", o.from},
+                                 {"frame_dt", m.frame_dt},
+                                 {"threads", o.threads},
+                                 {"relax_iterations", o.relax},
+                                 {"sources", sources_name(rollout_sources)},
+                                 {"units", kUnits},
+                                 {"models", rows},
+                                 {"sph", sph},
+                                 {"trajectories", sources}};
   const fs::path out = output.staging();
   common::write_file_atomically((out / "comparison.json").string(), result.dump(2) + "\n");
   common::write_file_atomically(

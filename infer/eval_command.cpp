@@ -72,14 +72,14 @@ TrajectoryScores score_trajectory(const LoadedData& d, const gnn::Trajectory& t,
                              std::to_string(t.frames()) + " frames");
   const int64_t frames = o.frames > 0 ? std::min<int64_t>(o.frames, available) : available;
   const auto scene = spill_scene_of(t, o.common.log);
-  TrajectoryScores s = score_rollout(*d.checkpoint.simulator, t, d.metadata, scene.get(),
-                                     recorded_measures(scene.get(), t, o.from, frames), o.from,
-                                     frames, o.common.relax, nullptr, [&](int64_t k) {
-                                       common::throw_if_stopped(o.common.stop, [&] {
-                                         return "at frame " + std::to_string(k) + " of " +
-                                                t.source + "; nothing written";
-                                       });
-                                     });
+  TrajectoryScores s = score_rollout(
+      *d.checkpoint.simulator, t, d.metadata, scene.get(),
+      recorded_measures(scene.get(), t, o.from, frames), o.from, frames,
+      sources_of(o.common.replay_recorded_sources), o.common.relax, nullptr, [&](int64_t k) {
+        common::throw_if_stopped(o.common.stop, [&] {
+          return "at frame " + std::to_string(k) + " of " + t.source + "; nothing written";
+        });
+      });
   row = {{"source", t.source},
          {"frames", frames},
          {"one_step_mse", s.one_step_mse},
@@ -130,6 +130,7 @@ nlohmann::json eval_result(const LoadedData& d, const EvalOptions& o,
           {"sph_seconds_per_frame", mean(sph)},
           {"threads", o.common.threads},
           {"relax_iterations", o.common.relax},
+          {"sources", sources_name(sources_of(o.common.replay_recorded_sources))},
           {"compression_mean",
            by_horizon(scores, &TrajectoryScores::predicted, &FrameMeasures::compression_mean)},
           {"compression_p95",

@@ -49,16 +49,22 @@ void write_rollout_files(const fs::path& dir, const LoadedData& d, const gnn::Tr
   sph::write_trajectory((dir / "rollout.h5").string(), group, rec);
 
   nlohmann::json metadata = d.metadata.raw;
-  metadata["rollout"] = {{"checkpoint", o.common.checkpoint},
-                         {"model", d.checkpoint.simulator->model().name()},
-                         {"source", t.source},
-                         {"from_frame", o.from},
-                         {"frames", frames},
-                         {"relax_iterations", o.common.relax},
-                         {"note",
-                          "predicted positions of the learned simulator; particles enter "
-                          "and leave on the recorded schedule, with their recorded oil "
-                          "fraction; volume_fraction is the model's prediction for the others"}};
+  metadata["rollout"] = {
+      {"checkpoint", o.common.checkpoint},
+      {"model", d.checkpoint.simulator->model().name()},
+      {"source", t.source},
+      {"from_frame", o.from},
+      {"frames", frames},
+      {"relax_iterations", o.common.relax},
+      {"sources", sources_name(sources_of(o.common.replay_recorded_sources))},
+      {"note", o.common.replay_recorded_sources
+                   ? "predicted positions of the learned simulator; particles enter "
+                     "and leave on the recorded schedule, with their recorded oil "
+                     "fraction; volume_fraction is the model's prediction for the "
+                     "others"
+                   : "predicted positions and oil fractions of the learned "
+                     "simulator from the recorded frame from_frame on; the "
+                     "dataset's scene released and retired particles"}};
   metadata["sequence_length"] = frames + 1;
   common::write_file_atomically(dir / "metadata.json", metadata.dump(2) + "\n");
 }
@@ -114,8 +120,9 @@ void run_rollout(const RolloutOptions& o) {
   if (o.common.log)
     progress = std::make_unique<common::ProgressReporter>(*o.common.log, false, frames, "rollout");
   const auto scene = o.common.relax > 0 ? spill_scene_of(t, o.common.log) : nullptr;
-  auto r = gnn::rollout(
-      *d.checkpoint.simulator, t, o.from, frames, d.metadata.frame_dt,
+  const Sources sources = sources_of(o.common.replay_recorded_sources);
+  auto r = roll_out(
+      *d.checkpoint.simulator, t, o.from, frames, d.metadata.frame_dt, sources,
       [&](int64_t k) {
         if (progress) progress->update(k, "");
         common::throw_if_stopped(

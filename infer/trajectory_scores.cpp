@@ -6,6 +6,7 @@
 #include "common/exit_codes.h"
 #include "gnn/data/frame_window.h"
 #include "gnn/eval/metrics.h"
+#include "gnn/eval/scene_rollout.h"
 #include "sph/river/slick_shape.h"
 
 namespace infer {
@@ -66,7 +67,7 @@ FrameMeasures recorded_measures(gnn::SpillScene* scene, const gnn::Trajectory& t
 TrajectoryScores score_rollout(gnn::LearnedSimulator& sim, const gnn::Trajectory& t,
                                const gnn::DatasetMetadata& m, gnn::SpillScene* scene,
                                const FrameMeasures& recorded, int64_t from, int64_t frames,
-                               int relax_iterations, gnn::RolloutResult* kept,
+                               Sources sources, int relax_iterations, gnn::RolloutResult* kept,
                                const std::function<void(int64_t)>& on_frame) {
   TrajectoryScores s;
   std::vector<int64_t> one_step_frames;
@@ -75,8 +76,8 @@ TrajectoryScores score_rollout(gnn::LearnedSimulator& sim, const gnn::Trajectory
   for (int64_t f = first; f <= last; f += stride) one_step_frames.push_back(f);
   s.one_step_mse = gnn::one_step_position_mse(sim, t, one_step_frames, m.frame_dt);
 
-  auto r = gnn::rollout(sim, t, from, frames, m.frame_dt, on_frame,
-                        relaxation_hook(scene, relax_iterations));
+  auto r = roll_out(sim, t, from, frames, m.frame_dt, sources, on_frame,
+                    relaxation_hook(scene, relax_iterations));
   auto truth = t.position.slice(0, from, from + frames + 1);
   auto truth_active = t.active.slice(0, from, from + frames + 1);
   auto truth_fraction = t.oil_fraction.slice(0, from, from + frames + 1);
@@ -85,20 +86,23 @@ TrajectoryScores score_rollout(gnn::LearnedSimulator& sim, const gnn::Trajectory
   // particle was emitted as: the simulator moves oil between particles, and so does the model.
   const auto truth_oil = truth_fraction >= gnn::kOilFractionThreshold;
   const auto predicted_oil = r.oil_fraction >= gnn::kOilFractionThreshold;
+  const auto predicted_since = active_since(r.active), truth_since = active_since(truth_active);
   for (int64_t k = 1; k <= frames; ++k) {
-    auto active = r.active[k] & truth_active[k];
-    s.mse.push_back(gnn::position_mse(r.position[k], truth[k], active));
-    s.mmd.push_back(gnn::mmd_rbf(r.position[k].index({active}), truth[k].index({active}),
-                                 m.connectivity_radius));
+    // The same particle on both sides: active on both, since the same frame.
+    auto same = r.active[k] & truth_active[k] & (predicted_since[k] == truth_since[k]);
+    s.mse.push_back(gnn::position_mse(r.position[k], truth[k], same));
+    s.mmd.push_back(gnn::mmd_rbf(r.position[k].index({r.active[k]}),
+                                 truth[k].index({truth_active[k]}), m.connectivity_radius));
     torch::Tensor both_p, both_t;
     auto vp = frame_velocity(r.position, r.active, k, m.frame_dt, both_p);
     auto vt = frame_velocity(truth, truth_active, k, m.frame_dt, both_t);
-    const double ke_p = gnn::mean_kinetic_energy(vp, both_p & both_t);
-    const double ke_t = gnn::mean_kinetic_energy(vt, both_p & both_t);
+    const auto moving = same & both_p & both_t;
+    const double ke_p = gnn::mean_kinetic_energy(vp, moving);
+    const double ke_t = gnn::mean_kinetic_energy(vt, moving);
     s.ke_error.push_back(ke_t > 0 ? std::abs(ke_p - ke_t) / ke_t : 0.0);
     s.iou.push_back(
-        gnn::top_view_iou(r.position[k].index({active & predicted_oil[k]}).slice(1, 0, 2),
-                          truth[k].index({active & truth_oil[k]}).slice(1, 0, 2), cell));
+        gnn::top_view_iou(r.position[k].index({r.active[k] & predicted_oil[k]}).slice(1, 0, 2),
+                          truth[k].index({truth_active[k] & truth_oil[k]}).slice(1, 0, 2), cell));
   }
   const auto time = t.time.slice(0, from, from + frames + 1);
   s.rollout_seconds = (time[frames] - time[0]).item<double>();
@@ -109,6 +113,30 @@ TrajectoryScores score_rollout(gnn::LearnedSimulator& sim, const gnn::Trajectory
   s.sph_seconds_per_frame = t.sph_seconds_per_frame;
   if (kept) *kept = std::move(r);
   return s;
+}
+
+const char* sources_name(Sources sources) {
+  return sources == Sources::kScene ? "standalone" : "replayed recording";
+}
+
+gnn::RolloutResult roll_out(gnn::LearnedSimulator& simulator, const gnn::Trajectory& t,
+                            int64_t from, int64_t frames, double frame_dt, Sources sources,
+                            const std::function<void(int64_t)>& on_frame,
+                            const gnn::FrameCorrection& correct) {
+  if (sources == Sources::kRecorded)
+    return gnn::rollout(simulator, t, from, frames, frame_dt, on_frame, correct);
+  return gnn::standalone_rollout(simulator, t, from, frames, frame_dt, on_frame, correct);
+}
+
+torch::Tensor active_since(const torch::Tensor& active) {
+  auto since = torch::full(active.sizes(), -1, torch::kInt64);
+  since[0].masked_fill_(active[0], 0);
+  for (int64_t k = 1; k < active.size(0); ++k) {
+    auto started = active[k] & ~active[k - 1];
+    since[k] = torch::where(started, torch::full_like(since[k], k), since[k - 1]);
+    since[k].masked_fill_(~active[k], -1);
+  }
+  return since;
 }
 
 std::optional<double> slick_area_error(const TrajectoryScores& s) {

@@ -42,17 +42,44 @@ struct TrajectoryScores {
   double wall_s_per_frame = 0, sph_seconds_per_frame = 0;
 };
 
+// How a rollout gets the particles that enter and leave.
+enum class Sources {
+  kScene,     // standalone: the scene's own emitters, inflow and sinks (gnn/eval/scene_rollout.h)
+  kRecorded,  // diagnosis: launched and retired on the recording's schedule, with recorded
+              // states (gnn/eval/rollout.h; --replay-recorded-sources)
+};
+const char* sources_name(Sources sources);
+inline Sources sources_of(bool replay_recorded_sources) {
+  return replay_recorded_sources ? Sources::kRecorded : Sources::kScene;
+}
+
 // Rolls `simulator` out over frames from+1 .. from+frames of `t` and scores it against the
 // recording, whose measures `recorded` are recorded_measures(scene, t, from, frames); `scene`
 // (may be null) gives the particle volume and the river for the oil measures and the density
 // correction: with `relax_iterations` > 0 every learned frame gets that many iterations of it
 // (gnn/eval/spill_measures.h, sph/simulation/density_relaxation.h). `kept` receives the rollout
 // when given.
+//
+// Position and kinetic-energy errors compare a particle on both sides only while it is the same
+// particle on both: active, and active since the same frame (a standalone rollout recycles
+// inflow water in its own order, so an identity that re-entered is another parcel of water).
+// Cloud distances and oil footprints compare each side's own active particles.
 TrajectoryScores score_rollout(gnn::LearnedSimulator& simulator, const gnn::Trajectory& t,
                                const gnn::DatasetMetadata& m, gnn::SpillScene* scene,
                                const FrameMeasures& recorded, int64_t from, int64_t frames,
-                               int relax_iterations = 0, gnn::RolloutResult* kept = nullptr,
+                               Sources sources, int relax_iterations = 0,
+                               gnn::RolloutResult* kept = nullptr,
                                const std::function<void(int64_t)>& on_frame = {});
+
+// Rolls out as `sources` says (arguments as gnn::rollout's).
+gnn::RolloutResult roll_out(gnn::LearnedSimulator& simulator, const gnn::Trajectory& t,
+                            int64_t from, int64_t frames, double frame_dt, Sources sources,
+                            const std::function<void(int64_t)>& on_frame,
+                            const gnn::FrameCorrection& correct);
+
+// [F + 1, N] int64: the frame (0 ..) at which each particle's present run of active frames
+// began, -1 where it is inactive.
+torch::Tensor active_since(const torch::Tensor& active);
 
 // The hook that relaxes each learned frame by `iterations` of the scene's density correction;
 // empty for 0. Throws common::InputError when iterations > 0 and there is no scene.

@@ -2,12 +2,16 @@
 
 namespace gnn {
 
+torch::Tensor launched_histories(const torch::Tensor& position, const torch::Tensor& velocity,
+                                 double frame_dt) {
+  auto back = torch::arange(kWindow - 1, -1, -1, torch::kFloat32).view({1, kWindow, 1});  // 5..0
+  return position.unsqueeze(1) - back * (velocity * float(frame_dt)).unsqueeze(1);
+}
+
 torch::Tensor launched_history(const Trajectory& t, int64_t frame, int64_t particle,
                                double frame_dt) {
-  auto x = t.position[frame][particle];
-  auto step = t.velocity[frame][particle] * float(frame_dt);
-  auto back = torch::arange(kWindow - 1, -1, -1, torch::kFloat32).unsqueeze(1);  // 5 .. 0
-  return x.unsqueeze(0) - back * step.unsqueeze(0);
+  return launched_histories(t.position[frame][particle].unsqueeze(0),
+                            t.velocity[frame][particle].unsqueeze(0), frame_dt)[0];
 }
 
 torch::Tensor position_history(const Trajectory& t, int64_t frame, const torch::Tensor& ids,

@@ -25,6 +25,11 @@ torch::Tensor position_history(const Trajectory& t, int64_t frame, const torch::
 torch::Tensor launched_history(const Trajectory& t, int64_t frame, int64_t particle,
                                double frame_dt);
 
+// Histories [n, 6, 3] of particles that become active at positions [n, 3] with velocities
+// [n, 3] (m/s): the same rule for particles launched by a scene's own sources.
+torch::Tensor launched_histories(const torch::Tensor& position, const torch::Tensor& velocity,
+                                 double frame_dt);
+
 // Indices of the particles active at `frame`, int64.
 inline torch::Tensor active_ids(const Trajectory& t, int64_t frame) {
   return t.active[frame].nonzero().view(-1);

@@ -72,6 +72,19 @@ void RiverFlow::restore(const nlohmann::json& s) {
   for (size_t k = 0; k < ids.size(); ++k) pool_.push_back({ids[k], free_from.at(k)});
 }
 
+void RiverFlow::restore_recorded(double t, Real newest_x, const std::vector<Index>& pool) {
+  // Layer k is due at (k + 1) interval and then travels at the inflow speed, so the newest layer
+  // released by t sits at inflow_x + (t - due) speed: due, and the count, follow. Without water
+  // in the buffer, every layer due by t is counted.
+  double due = t;
+  if (std::isfinite(double(newest_x)))
+    due = t - double(newest_x - config_.inflow_x) / double(config_.speed);
+  emitted_layers_ = std::max(0L, std::lround(due / interval_));
+  emitted_ = retired_ = fallen_ = 0;
+  pool_.clear();
+  for (Index id : pool) pool_.push_back({id, -std::numeric_limits<double>::infinity()});
+}
+
 void RiverFlow::allocate(FluidParticles& fluid) {
   const Vec3 velocity(config_.speed, 0, 0);
   for (size_t k = 0; k < pool_.size(); ++k) {
@@ -105,10 +118,14 @@ void RiverFlow::emit(FluidParticles& fluid, double t) {
 }
 
 void RiverFlow::after_step(FluidParticles& fluid, double t) {
+  hold_buffers(fluid);
+  retire_leaving(fluid, t);
+}
+
+void RiverFlow::hold_buffers(FluidParticles& fluid) const {
   const Vec3 velocity(config_.speed, 0, 0);
   const Real inflow_end = config_.inflow_x + config_.buffer;
   const Real outflow_start = config_.outflow_x - config_.buffer;
-  retiring_.clear();
   for (Index i = 0; i < fluid.active_count(); ++i) {
     const Real x = fluid.position[i].x();
     if (x < inflow_end) fluid.velocity[i] = velocity;
@@ -116,11 +133,17 @@ void RiverFlow::after_step(FluidParticles& fluid, double t) {
     // free, the water accelerates into the gap the retirement leaves and the level drops for
     // several depths upstream of the outflow.
     if (x > outflow_start) fluid.velocity[i].x() = config_.speed;
+  }
+}
+
+void RiverFlow::retire_leaving(FluidParticles& fluid, double t) {
+  retiring_.clear();
+  for (Index i = 0; i < fluid.active_count(); ++i) {
     // Past the outflow, or fallen below the lowest ground: water that splashed over a bank and
     // off the edge of the terrain has left the reach too.
     const bool fell = fluid.position[i].z() < floor_z_;
     fallen_ += fell;
-    if (x > config_.outflow_x || fell) retiring_.push_back(i);
+    if (fluid.position[i].x() > config_.outflow_x || fell) retiring_.push_back(i);
   }
   // From the highest slot down: deactivate() moves the last active particle into the freed slot,
   // and that one has been looked at already.

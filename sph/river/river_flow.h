@@ -36,6 +36,10 @@ class RiverFlow {
   // After a step ending at time t: holds the buffer at the inflow velocity and retires the
   // particles past the outflow plane.
   void after_step(FluidParticles& fluid, double t);
+  // The two halves of after_step, for frames computed outside the solver (the held velocity
+  // moves a particle before it is judged): the buffers' held velocity, then the retirement.
+  void hold_buffers(FluidParticles& fluid) const;
+  void retire_leaving(FluidParticles& fluid, double t);
 
   const std::vector<Vec3>& layer() const { return layer_; }
   // The inflow plane's cross-section of water below `water_level`, a particle per lattice site.
@@ -49,6 +53,13 @@ class RiverFlow {
   // Progress and reserve, for saved simulation states.
   nlohmann::json state() const;
   void restore(const nlohmann::json& state);
+  // Continues from a recorded frame at time t (the counts start from zero): the layers released
+  // so far follow from `newest_x`, where the most upstream water of the inflow buffer is (it
+  // moves at the inflow speed from its due time; NaN when none is there), and the pool is
+  // `pool`, free at once.
+  void restore_recorded(double t, Real newest_x, const std::vector<Index>& pool);
+  Real inflow_x() const { return config_.inflow_x; }
+  Real buffer_end() const { return config_.inflow_x + config_.buffer; }
 
  private:
   struct PoolEntry {

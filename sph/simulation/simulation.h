@@ -21,6 +21,21 @@
 
 namespace sph {
 
+// A frame of a recording (a dataset's trajectory, by particle identity: index = id), to continue
+// from with frames computed outside the solver (Simulation::restore_recorded_frame).
+struct RecordedFrame {
+  double time = 0;
+  std::vector<Vec3> position, velocity;
+  std::vector<Real> oil_fraction;
+  std::vector<std::uint8_t> active;
+};
+
+// What one frame computed outside the solver retired (Simulation::apply_external_frame).
+struct ExternalFrameStats {
+  long retired = 0;      // past the outflow or fallen off the terrain (the river's own rules)
+  long left_domain = 0;  // outside the domain: a solver run stops there, a forecast retires them
+};
+
 // Figures of the steps between two recorded frames.
 struct FrameStats {
   int steps = 0;
@@ -58,6 +73,31 @@ class Simulation : private SolverHost {
   // file and the key when the state does not fit this scene.
   void save_state(const std::string& file) const;
   void load_state(const std::string& file);
+
+  // Frames computed outside the solver (a learned simulator: spill-infer predict, and eval
+  // without the recording's help), with the scene's own sources and sinks acting once per frame
+  // as they act once per step in a solver run (external_frames.cpp). A frame is:
+  // release_sources(), then the caller's prediction for the active particles in fluid()'s
+  // order, then apply_external_frame(), then release_sources() again (what became due during the
+  // frame appears at its frame's end, advected from its due time, as in a solver run).
+  //
+  // Activates what the emitters and the river's inflow release by time(), each particle placed
+  // where it would be now had it left at its due time (as in a solver run).
+  void release_sources();
+  // Moves the active particles (in fluid()'s order, unchanged since release_sources()) to
+  // `position` with oil fractions `oil_fraction` at time t_end, velocities from the displacement.
+  // The river's buffers then hold their speed (the position follows the held velocity), and
+  // particles past the outflow, fallen off the terrain or outside the domain retire. Throws
+  // SimulationError naming `frame` when a position is not finite, std::invalid_argument when the
+  // sizes differ from the active count.
+  ExternalFrameStats apply_external_frame(double t_end, const std::vector<Vec3>& position,
+                                          const std::vector<Real>& oil_fraction, int frame);
+  // Continues from a recorded frame of this scene: every particle's state and activity, the
+  // clock, and the sources' progress (an emitter has released every layer due a frame before the
+  // recorded time and every layer holding an active particle; the inflow's last layer is found
+  // from where its water is, the pool holds the inactive pure water). Throws
+  // std::invalid_argument when the frame's particle count differs from this scene's.
+  void restore_recorded_frame(const RecordedFrame& frame, double frame_dt);
 
   // A per-particle array of fluid() in identity order (index = particle id), for writers:
   // e.g. in_id_order(fluid().position).

@@ -5,6 +5,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
@@ -38,7 +39,18 @@ TEST(Cli, TrainRollOutAndEvaluateOnATinyDataset) {
   ASSERT_TRUE(fs::exists(run_dir + "/last.pt"));
 
   const std::string infer = std::string(SPILL_INFER_EXE);
-  const std::string ckpt = " --checkpoint " + run_dir + "/last.pt --data " + data + " --threads 1";
+  // The tiny dataset is drawn, not simulated: it has no scene to roll out standalone from, so
+  // its rollouts replay the recorded sources, and without the option eval says so.
+  const std::string standalone =
+      " --checkpoint " + run_dir + "/last.pt --data " + data + " --threads 1";
+  EXPECT_EQ(run("(" + infer + " eval" + standalone + " --out " + (dir / "standalone").string() +
+                " 2> " + (dir / "standalone.log").string() + ")"),
+            2);
+  std::ifstream standalone_log(dir / "standalone.log");
+  const std::string said((std::istreambuf_iterator<char>(standalone_log)), {});
+  EXPECT_NE(said.find("--replay-recorded-sources"), std::string::npos) << said;
+  EXPECT_FALSE(fs::exists(dir / "standalone"));
+  const std::string ckpt = standalone + " --replay-recorded-sources";
   ASSERT_EQ(run(infer + " eval" + ckpt + " --out " + (dir / "eval").string()), 0);
   nlohmann::json eval;
   std::ifstream(dir / "eval/eval.json") >> eval;
@@ -144,8 +156,8 @@ TEST(Cli, CompareWritesARowPerModelAndTheFloor) {
   // other would need a row of its own here.
   ASSERT_EQ(untrainable, std::vector<std::string>{"constant_velocity"});
   names.push_back("constant_velocity");
-  const std::string compare =
-      std::string(SPILL_INFER_EXE) + " compare --data " + data + " --threads 1 --from 5 --frames 8";
+  const std::string compare = std::string(SPILL_INFER_EXE) + " compare --data " + data +
+                              " --threads 1 --from 5 --frames 8 --replay-recorded-sources";
   ASSERT_EQ(run(compare + checkpoints + " --constant-velocity --out " + (dir / "out").string()), 0);
   nlohmann::json result;
   std::ifstream(dir / "out/comparison.json") >> result;
@@ -240,8 +252,9 @@ TEST(Cli, AFullDiskIsAnErrorNamingTheFileAndLeavesNothing) {
                             " --threads 1 --set /steps=10 --set /checkpoint_every=10";
   ASSERT_EQ(run(train + " --out " + (dir / "run").string()), 0);
   const std::string infer = std::string(SPILL_INFER_EXE) + " ";
-  const std::string ckpt =
-      " --checkpoint " + (dir / "run/last.pt").string() + " --data " + data + " --threads 1";
+  const std::string ckpt = " --checkpoint " + (dir / "run/last.pt").string() + " --data " + data +
+                           " --threads 1" +
+                           " --replay-recorded-sources";  // the tiny dataset has no scene
   const fs::path out = dir / "out", log = dir / "log.txt";
   const std::vector<std::pair<std::string, int>> cases = {
       {train + " --out " + out.string(), 0},                                  // log.csv

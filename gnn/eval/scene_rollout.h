@@ -1,0 +1,72 @@
+#pragma once
+// A learned simulator run as a simulator of a scene: it moves the particles of an
+// sph::Simulation frame by frame while the scene's own sources and sinks act between its frames
+// (the emitters and the river's inflow release particles on the scene's schedule; the outflow,
+// the terrain's edges and the domain retire them: Simulation::release_sources and
+// apply_external_frame). Nothing is read from a recording. `spill-infer predict` runs a scene this
+// way from its start or a saved state; eval and compare run each test trajectory this way from a
+// recorded frame (standalone_rollout).
+//
+// A particle's input history is its own last 6 positions; one that has just been released (or
+// was active when the run began without a recorded history) gets the launched history of
+// training, stepped back along its velocity (gnn/data/frame_window.h).
+
+#include <torch/torch.h>
+
+#include <functional>
+#include <string>
+
+#include "gnn/data/dataset.h"
+#include "gnn/eval/rollout.h"
+#include "gnn/models/learned_simulator.h"
+#include "sph/simulation/simulation.h"
+
+namespace gnn {
+
+class SceneRollout {
+ public:
+  // `material`: the material rows (Trajectory::material) of the scene's materials; `where`
+  // names the run in errors (the scene file, or the trajectory).
+  SceneRollout(LearnedSimulator& model, sph::Simulation& simulation, torch::Tensor material,
+               double frame_dt, std::string where);
+
+  // Histories [n, 6, 3] (oldest first) of the particles `ids` [n] (int64), active now.
+  void set_history(const torch::Tensor& ids, const torch::Tensor& history);
+  // One frame: the model's prediction (then `correct`, as rollout()'s), the sinks, then the
+  // sources due by the frame's end (on the first frame, also those due by its start). `frame`
+  // names the frame in errors. Throws std::runtime_error when the model's positions are not
+  // finite.
+  sph::ExternalFrameStats advance(int frame, const FrameCorrection& correct = {});
+  // Particles the frames so far retired by the river's rules, and outside the domain.
+  const sph::ExternalFrameStats& retired() const { return retired_; }
+
+ private:
+  LearnedSimulator& model_;
+  sph::Simulation& sim_;
+  torch::Tensor material_, boundary_;
+  std::string where_;
+  double frame_dt_, start_time_;
+  int64_t frames_ = 0;
+  torch::Tensor history_;  // [N, 6, 3] by particle id
+  torch::Tensor current_;  // [N] bool: the history of the particle is its own, up to now
+  sph::ExternalFrameStats retired_;
+};
+
+// The simulation's particles in identity order: position [N, 3] float32, active [N] bool,
+// oil fraction [N] float32.
+struct IdentityFrame {
+  torch::Tensor position, active, oil_fraction;
+};
+IdentityFrame identity_frame(const sph::Simulation& simulation);
+
+// Rolls `model` out from recorded frame `first_frame` of `t` for `frames` frames, standalone:
+// the state and history of that frame are the recording's, everything after comes from the model
+// and from the sources and sinks of the trajectory's scene (t.scene). Inactive rows of the
+// result keep a particle's last position. Throws DatasetError when the trajectory carries no
+// scene or its scene does not have the trajectory's particles; arguments as rollout()'s.
+RolloutResult standalone_rollout(LearnedSimulator& model, const Trajectory& t, int64_t first_frame,
+                                 int64_t frames, double frame_dt,
+                                 const std::function<void(int64_t)>& on_frame = {},
+                                 const FrameCorrection& correct = {});
+
+}  // namespace gnn

@@ -1,0 +1,202 @@
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <iomanip>
+#include <numeric>
+#include <sstream>
+
+#include "common/checked_file.h"
+#include "common/config_error.h"
+#include "common/output_folder.h"
+#include "common/progress.h"
+#include "common/stop_signals.h"
+#include "gnn/eval/scene_rollout.h"
+#include "gnn/eval/spill_measures.h"
+#include "gnn/runtime/runtime.h"
+#include "gnn/training/checkpoint.h"
+#include "infer/commands.h"
+#include "sph/core/config.h"
+#include "sph/io/animation.h"
+#include "sph/io/run_metadata.h"
+#include "sph/io/run_recorder.h"
+#include "sph/scene/scene_loader.h"
+#include "sph/simulation/density_relaxation.h"
+#include "sph/simulation/frame_loop.h"
+
+namespace infer {
+namespace fs = std::filesystem;
+
+namespace {
+
+std::string text(double v) {
+  std::ostringstream s;
+  s << v;
+  return s.str();
+}
+
+// A model runs only on scenes like its data: the same frame interval, particle size and graph
+// radius (its features are in those units), and fluid phases it has seen.
+void check_scene_fits(const nlohmann::json& data, const sph::LoadedScene& scene,
+                      const std::string& checkpoint) {
+  const sph::SceneConfig& s = scene.config;
+  const auto require_equal = [&](const char* what, const char* pointer, double trained,
+                                 double given) {
+    if (std::abs(trained - given) > 1e-6 * std::abs(trained))
+      throw common::ConfigError(scene.file, pointer,
+                                std::string(what) + " is " + text(given) + ", but " + checkpoint +
+                                    " was trained on data with " + text(trained) +
+                                    " (set it with --set, or use a model trained for it)");
+  };
+  require_equal("the frame interval (s)", "/output/frame_dt", data.value("frame_dt", 0.0),
+                sph::shortest_decimal(s.output.frame_dt));
+  require_equal("the particle radius (m)", "/particle_radius", data.value("particle_radius", 0.0),
+                sph::shortest_decimal(s.particle_radius));
+  require_equal("the connectivity radius (the support radius, m)", "/particle_radius",
+                data.value("connectivity_radius", 0.0), sph::shortest_decimal(s.support_radius()));
+  // The phases the scene's fluid starts as or is released as.
+  bool water = s.terrain && s.terrain->fill_water, oil = false;
+  for (const auto& b : s.fluid_blocks) (b.oil_fraction() >= 0.5 ? oil : water) = true;
+  for (const auto& e : s.emitters) (e.material == "oil" ? oil : water) = true;
+  water = water || bool(s.flow);
+  oil = oil || !s.leaks.empty();
+  const nlohmann::json types = data.value("particle_types", nlohmann::json::object());
+  const auto knows = [&](const char* phase) { return types.contains(phase); };
+  if (!water && !oil)
+    throw common::ConfigError(scene.file, "/fluid_blocks",
+                              "the scene has no fluid: nothing for " + checkpoint + " to move");
+  if ((water && !knows("water")) || (oil && !knows("oil")))
+    throw common::ConfigError(
+        scene.file, oil && !knows("oil") ? "/leaks" : "/fluid_blocks",
+        "the scene has " + std::string(oil && !knows("oil") ? "oil" : "water") + ", a phase " +
+            checkpoint + " was not trained on (it knows " + types.dump() + ")");
+}
+
+gnn::Bounds bounds_of(const sph::Aabb& domain) {
+  gnn::Bounds b;
+  for (int d = 0; d < 3; ++d) b[size_t(d)] = {double(domain.min[d]), double(domain.max[d])};
+  return b;
+}
+
+sph::LoadedScene load_predicted_scene(const PredictOptions& o) {
+  std::vector<std::string> overrides = o.overrides;
+  if (o.end_time > 0) overrides.push_back("/end_time=" + text(o.end_time));
+  return sph::load_scene(o.scene_file, overrides);
+}
+
+}  // namespace
+
+nlohmann::json run_predict(const PredictOptions& o) {
+  const sph::LoadedScene scene = load_predicted_scene(o);
+  gnn::LoadedCheckpoint checkpoint = gnn::load_checkpoint(o.checkpoint);
+  check_scene_fits(checkpoint.data, scene, o.checkpoint);
+  gnn::GraphModel& model = checkpoint.simulator->model();
+  model.eval();
+  gnn::configure_runtime(
+      o.blas_threads > 0 ? gnn::RuntimeSettings{o.threads, o.blas_threads}
+                         : gnn::inference_runtime(o.threads, model.infers_on_one_blas_thread()));
+
+  common::OutputFolderPolicy policy;
+  policy.markers = {"metadata.json", "trajectory.h5", "stats.json"};
+  policy.replace = true;
+  policy.inputs = {o.scene_file, o.checkpoint};
+  if (!o.initial_state.empty()) policy.inputs.push_back(o.initial_state);
+  policy.log = o.log;
+  common::OutputFolder output(o.out_dir, policy);
+  const fs::path& staging = output.staging();
+
+  sph::Simulation sim(scene.config);
+  if (!o.initial_state.empty()) sim.load_state(o.initial_state);
+  const int frames = sph::frame_count(scene.config);
+  const double frame_dt = sph::shortest_decimal(scene.config.output.frame_dt);
+  const int first = int(std::llround(sim.time() / frame_dt));
+  if (first >= frames)
+    throw common::ConfigError(o.initial_state, "/time",
+                              "the state is at t = " + text(sim.time()) +
+                                  " s, at or after the scene's /end_time " +
+                                  text(scene.config.end_time) +
+                                  " s: nothing is left to predict (raise it with --end-time)");
+  // The wall-distance features are measured to this scene's domain, as the data's were to its.
+  gnn::LearnedSimulator learned(checkpoint.simulator->model_ptr(),
+                                checkpoint.simulator->normalisation(), bounds_of(sim.domain()),
+                                scene.config.particle_radius);
+  gnn::SceneRollout stepper(learned, sim, gnn::material_table(scene.resolved.at("materials")),
+                            frame_dt, scene.file);
+  std::unique_ptr<sph::DensityRelaxation> relaxation;
+  gnn::FrameCorrection correct;
+  if (o.relax > 0) {
+    relaxation = std::make_unique<sph::DensityRelaxation>(scene.config);
+    correct = [&](torch::Tensor& position, const torch::Tensor& fraction) {
+      auto x = gnn::vectors_of(position);
+      relaxation->relax(x, gnn::reals_of(fraction), o.relax);
+      position = gnn::tensor_of(x);
+    };
+  }
+
+  nlohmann::json metadata = sph::run_metadata(sim, scene, frames - first);
+  metadata["predicted_by"] = {
+      {"checkpoint", o.checkpoint},
+      {"model", model.name()},
+      {"weights_checksum", checkpoint.payload_checksum},
+      {"relax_iterations", o.relax},
+      {"note",
+       "positions and oil fractions from the learned simulator; the scene's emitters, inflow, "
+       "outflow and domain released and retired particles between its frames"}};
+  metadata["solver"] = model.name();
+  common::write_file_atomically(staging / "metadata.json", metadata.dump(2) + "\n");
+  sph::RunRecorder recorder(sim, scene.config, {o.png, false}, staging);
+  recorder.record(sim, first);
+
+  common::ProgressReporter progress(o.log ? *o.log : std::cerr, o.terminal, frames,
+                                    "predicting " + scene.config.name + " with " + model.name());
+  nlohmann::json frame_list = nlohmann::json::array();
+  frame_list.push_back(
+      {{"t", sim.time()}, {"wall_s", 0.0}, {"active", sim.fluid().active_count()}});
+  const auto start = std::chrono::steady_clock::now();
+  for (int frame = first + 1; frame <= frames; ++frame) {
+    common::throw_if_stopped(
+        o.stop, [&] { return "before frame " + std::to_string(frame) + "; nothing written"; });
+    const auto t0 = std::chrono::steady_clock::now();
+    const sph::ExternalFrameStats retired = stepper.advance(frame, correct);
+    const double wall =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    recorder.record(sim, frame);
+    frame_list.push_back({{"t", sim.time()},
+                          {"wall_s", wall},
+                          {"active", sim.fluid().active_count()},
+                          {"retired", retired.retired},
+                          {"left_domain", retired.left_domain}});
+    if (o.log) progress.update(frame, "t = " + text(sim.time()) + " s");
+  }
+  const double wall_s =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  recorder.close_trajectory();
+  nlohmann::json summary = {
+      {"wall_s", wall_s},
+      {"frames", frames - first},
+      {"wall_s_per_frame", wall_s / double(std::max(1, frames - first))},
+      {"simulated_s", sim.time() - double(first) * frame_dt},
+      {"fluid_particles", sim.fluid().active_count()},
+      {"boundary_particles", sim.boundary().size()},
+      {"threads", o.threads},
+      {"model", model.name()},
+      {"retired", stepper.retired().retired},
+      {"left_domain", stepper.retired().left_domain},
+      {"note",
+       "wall_s: the learned frames with their sources, sinks and recording (pictures excluded "
+       "only when --png is off); left_domain: particles the model moved out of the domain, "
+       "which a solver run would stop on"}};
+  if (const sph::RiverFlow* flow = sim.flow())
+    summary["flow"] = {{"emitted", flow->emitted()}, {"retired", flow->retired()}};
+  common::write_file_atomically(
+      staging / "stats.json",
+      nlohmann::json{{"frames", frame_list}, {"summary", summary}}.dump(2) + "\n");
+  if (o.png)
+    sph::encode_animation(staging, scene.config.terrain_grid ? "river" : "side", first,
+                          1 / frame_dt, o.log);
+  recorder.write_metrics();
+  if (o.log) progress.finish(std::to_string(frames - first) + " learned frames");
+  output.commit();
+  return summary;
+}
+
+}  // namespace infer

@@ -1,0 +1,137 @@
+// Rollouts without the recording's help (gnn/eval/scene_rollout.h): from a recorded frame of a
+// simulated river, the scene's own leak, inflow and outflow act on the model's frames.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <filesystem>
+
+#include "gnn/data/frame_window.h"
+#include "gnn/eval/scene_rollout.h"
+#include "gnn/models/model_registry.h"
+#include "infer/trajectory_scores.h"
+#include "sph/app/scene_runner.h"
+#include "sph/river/river_flow.h"
+#include "sph/scene/scene_loader.h"
+#include "tests/gnn/run_folder.h"
+
+namespace fs = std::filesystem;
+
+namespace {
+
+const std::string kRiverSmall = std::string(SPILL_SOURCE_DIR) + "/configs/scenes/river_small.json";
+// A short leak inside one simulated second of river_small (20 frames of 0.05 s).
+const std::vector<std::string> kShortLeak = {"/leaks/0/start=0.1", "/leaks/0/duration=0.5",
+                                             "/end_time=1.0"};
+
+class Standalone : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() / ("spill_standalone_" + std::to_string(getpid()));
+    fs::remove_all(dir_);
+    sph::RunOptions run;
+    run.out_dir = dir_ / "run";
+    scene_ = sph::load_scene(kRiverSmall, kShortLeak);
+    sph::run_scene(scene_, run);
+    recording_ = run_folder::read(dir_ / "run", dir_ / "view");
+    // The constant-velocity floor: its next position is known without the model's code.
+    const gnn::DatasetMetadata& m = recording_.metadata;
+    simulator_ = std::make_unique<gnn::LearnedSimulator>(
+        gnn::make_model({{"model", "constant_velocity"}, {"radius", m.connectivity_radius}},
+                        "test"),
+        gnn::Normalisation::from_metadata(m, 0.0, 0.0), m.bounds, m.particle_radius);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  fs::path dir_;
+  sph::LoadedScene scene_;
+  run_folder::Read recording_;
+  std::unique_ptr<gnn::LearnedSimulator> simulator_;
+};
+
+}  // namespace
+
+TEST_F(Standalone, SourcesAndSinksComeFromTheSceneNotTheRecording) {
+  const gnn::Trajectory& t = recording_.trajectory;
+  const double dt = recording_.metadata.frame_dt;
+  const int64_t from = 2, frames = t.frames() - 1 - from;
+  const gnn::RolloutResult r = gnn::standalone_rollout(*simulator_, t, from, frames, dt);
+  ASSERT_EQ(r.position.size(0), frames + 1);
+
+  // It starts from the recorded frame.
+  EXPECT_TRUE(torch::equal(r.active[0], t.active[from]));
+  EXPECT_TRUE(
+      torch::equal(r.position[0].index({r.active[0]}), t.position[from].index({t.active[from]})));
+
+  // One frame on, a particle away from the river's buffers keeps its recorded velocity (the
+  // floor's rule, computed here from the recording).
+  const sph::FlowConfig& flow = *scene_.config.flow;
+  const auto x0 = t.position[from], before = t.position[from - 1];
+  const auto steady = t.active[from] & t.active[from - 1] & r.active[1] &
+                      (x0.select(1, 0) > flow.inflow_x + flow.buffer + 0.1) &
+                      (x0.select(1, 0) < flow.outflow_x - flow.buffer - 0.1);
+  ASSERT_GT(steady.sum().item<int64_t>(), 500);
+  const auto expected = (2 * x0 - before).index({steady});
+  EXPECT_LT((r.position[1].index({steady}) - expected).abs().max().item<float>(), 1e-5);
+  // Water in the inflow buffer is held at the inflow speed.
+  const auto held = t.active[from] & r.active[1] & (x0.select(1, 0) < flow.inflow_x + 0.05);
+  ASSERT_GT(held.sum().item<int64_t>(), 10);
+  const auto held_velocity = (r.position[1] - x0).index({held}) / dt;
+  EXPECT_LT((held_velocity.select(1, 0) - flow.speed).abs().max().item<float>(), 1e-3);
+
+  // The leak's oil leaves the outlet on the recorded schedule (the same emitter code): a layer
+  // shows in the same frame, or one frame later in the solver's run when it fell due during that
+  // frame's last solver step (the solver releases at its steps, a forecast at its frames).
+  const auto oil = t.particle_type == gnn::kOil;
+  ASSERT_GT(oil.sum().item<int64_t>(), 10);
+  const auto first_active = [&](const torch::Tensor& active) {
+    // Frame of first activity per particle (frames + 1 when never active).
+    const auto frame = torch::arange(active.size(0)).unsqueeze(1).expand(active.sizes());
+    return torch::where(active, frame, torch::full_like(frame, active.size(0))).amin(0);
+  };
+  const auto predicted_start = first_active(r.active).index({oil});
+  const auto recorded_start = first_active(t.active.slice(0, from)).index({oil});
+  const auto lag = recorded_start - predicted_start;
+  EXPECT_TRUE(((lag == 0) | (lag == 1)).all().item<bool>()) << lag;
+  EXPECT_GT((lag == 0).sum().item<int64_t>(), oil.sum().item<int64_t>() / 2);
+  // The inflow releases its layers on the scene's schedule: as many particles enter as in the
+  // solver's run, to one layer (the restored frame may sit either side of a layer's due time).
+  const auto entered = [&](const torch::Tensor& active) {
+    return (active.slice(0, 1) & ~active.slice(0, 0, -1))
+        .index({torch::indexing::Slice(), ~oil})
+        .sum()
+        .item<int64_t>();
+  };
+  const int64_t layer = int64_t(sph::RiverFlow::inflow_layer(flow, *scene_.config.terrain_grid,
+                                                             scene_.config.terrain->water_level,
+                                                             scene_.config.particle_diameter())
+                                    .size());
+  EXPECT_NEAR(double(entered(r.active)), double(entered(t.active.slice(0, from))), double(layer));
+  EXPECT_GT(entered(r.active), 5 * layer);
+  // Nothing active past the outflow plane: it retired there.
+  for (int64_t k = 1; k <= frames; ++k)
+    EXPECT_FALSE((r.active[k] & (r.position[k].select(1, 0) > flow.outflow_x)).any().item<bool>())
+        << "frame " << k;
+}
+
+// The scores compare a particle only while it is the same parcel on both sides.
+TEST(ActiveSince, MarksTheFrameEachRunOfActiveFramesBegan) {
+  // Particle 0: always active; 1: enters at frame 2; 2: leaves at 1, re-enters at 3.
+  const auto active =
+      torch::tensor({1, 0, 1, 1, 0, 0, 1, 1, 0, 1, 1, 1}, torch::kBool).view({4, 3});
+  const auto expected = torch::tensor({0, -1, 0, 0, -1, -1, 0, 2, -1, 0, 2, 3}).view({4, 3});
+  EXPECT_TRUE(torch::equal(infer::active_since(active), expected)) << infer::active_since(active);
+}
+
+// A dataset without a scene cannot be rolled out standalone: the error names the option that
+// replays the recording instead.
+TEST_F(Standalone, ATrajectoryWithoutASceneNamesTheReplayOption) {
+  gnn::Trajectory t = recording_.trajectory;
+  t.scene = nlohmann::json::object();
+  try {
+    gnn::standalone_rollout(*simulator_, t, 2, 3, recording_.metadata.frame_dt);
+    FAIL() << "rolled out without a scene";
+  } catch (const gnn::DatasetError& e) {
+    EXPECT_NE(std::string(e.what()).find("--replay-recorded-sources"), std::string::npos)
+        << e.what();
+  }
+}
