@@ -247,11 +247,13 @@ TrainingBatch Trainer::sample_batch() {
       history = torch::cat({history.slice(1, 1), next.position.unsqueeze(1)}, 1);
       fraction = next.oil_fraction;
     }
-    history = gnn::random_walk_noise(history, simulator_->model().noise_std(), noise_generator_);
+    const auto noisy =
+        gnn::random_walk_noise(history, simulator_->model().noise_std(), noise_generator_);
     auto next = t.position[frame + 1].index_select(0, ids);
-    gnn::FrameNodes nodes{history, fraction, t.material, t.boundary};
+    gnn::FrameNodes nodes{noisy, fraction, t.material, t.boundary};
     graphs.push_back(simulator_->encode(nodes));
-    targets.push_back(simulator_->normalise_acceleration(gnn::target_acceleration(history, next)));
+    targets.push_back(simulator_->normalise_acceleration(
+        gnn::noisy_target_acceleration(history, noisy, next)));
     fraction_targets.push_back(simulator_->normalise_fraction_change(
         t.oil_fraction[frame + 1].index_select(0, ids) - fraction));
     masks.push_back(t.active[frame + 1].index_select(0, ids));
