@@ -208,6 +208,9 @@ nlohmann::json model_row(const ComparedModel& model, const gnn::RuntimeSettings&
     spreads[key] = none ? nlohmann::json(nullptr) : nlohmann::json(spread(found->second.values));
   }
   row["spread"] = spreads;
+  long skipped = 0;
+  for (const auto& s : scores) skipped += s.skipped_inflow_layers;
+  row["skipped_inflow_layers"] = skipped;
   // Frame by frame (frame k after from_frame at index k - 1), the mean over the trajectories
   // that reach it: for figures at a simulated time rather than a frame count.
   row["by_frame"] = {{"rollout_mse", mean_by_frame(scores, &TrajectoryScores::mse)},
@@ -252,7 +255,11 @@ const char* const kUnits =
     "frames. by_frame: rollout_mse and oil_iou at every frame after from_frame (index k - 1 "
     "for frame k), mean over the trajectories that reach it. "
     "seconds_per_simulated_second: wall time per frame (graph building included) over "
-    "frame_dt; null: not defined for this data (e.g. no river, no bank touched)";
+    "frame_dt; null: not defined for this data (e.g. no river, no bank touched). "
+    "skipped_inflow_layers: standalone rollouts only, summed over the trajectories: inflow "
+    "layers that could not enter because the model's reach returned too little water at the "
+    "outflow (it backed up). Standalone rollouts compare positions only while a particle is "
+    "the same parcel on both sides (active since the same frame)";
 
 std::string comparison_markdown(const CompareOptions& o, const gnn::DatasetMetadata& m,
                                 size_t trajectories, const std::vector<ComparedModel>& models,

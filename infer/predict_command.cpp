@@ -186,7 +186,12 @@ nlohmann::json run_predict(const PredictOptions& o) {
        "only when --png is off); left_domain: particles the model moved out of the domain, "
        "which a solver run would stop on"}};
   if (const sph::RiverFlow* flow = sim.flow())
-    summary["flow"] = {{"emitted", flow->emitted()}, {"retired", flow->retired()}};
+    summary["flow"] = {{"emitted", flow->emitted()},
+                       {"retired", flow->retired()},
+                       {"skipped_inflow_layers", flow->skipped_layers()},
+                       {"skipped_note",
+                        "inflow layers the pool of returned water could not fill: the forecast "
+                        "backed the reach up (a solver run stops there)"}};
   common::write_file_atomically(
       staging / "stats.json",
       nlohmann::json{{"frames", frame_list}, {"summary", summary}}.dump(2) + "\n");

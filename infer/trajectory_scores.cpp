@@ -111,6 +111,7 @@ TrajectoryScores score_rollout(gnn::LearnedSimulator& sim, const gnn::Trajectory
   s.wall_s_per_frame =
       std::accumulate(r.frame_seconds.begin(), r.frame_seconds.end(), 0.0) / double(frames);
   s.sph_seconds_per_frame = t.sph_seconds_per_frame;
+  s.skipped_inflow_layers = r.skipped_inflow_layers;
   if (kept) *kept = std::move(r);
   return s;
 }

@@ -40,6 +40,7 @@ struct TrajectoryScores {
   FrameMeasures recorded, predicted;            // spill and density measures of each side
   double rollout_seconds = 0;                   // simulated seconds the rollout spans
   double wall_s_per_frame = 0, sph_seconds_per_frame = 0;
+  long skipped_inflow_layers = 0;  // gnn::RolloutResult's
 };
 
 // How a rollout gets the particles that enter and leave.

@@ -23,6 +23,9 @@ struct RolloutResult {
   torch::Tensor active;        // [F + 1, N] bool
   torch::Tensor oil_fraction;  // [F + 1, N] float32, likewise
   std::vector<double> frame_seconds;  // wall time of each predicted frame
+  // Standalone rollouts: inflow layers the pool of returned water could not fill (the forecast
+  // backed the reach up; RiverFlow::skipped_layers). 0 for replayed ones.
+  long skipped_inflow_layers = 0;
 };
 
 // Frames first_frame + 1 .. first_frame + frames (which must exist in the trajectory).

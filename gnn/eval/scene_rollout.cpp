@@ -177,6 +177,7 @@ RolloutResult standalone_rollout(LearnedSimulator& model, const Trajectory& t, i
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
     if (on_frame) on_frame(k + 1);
   }
+  if (const sph::RiverFlow* flow = sim.flow()) out.skipped_inflow_layers = flow->skipped_layers();
   return out;
 }
 

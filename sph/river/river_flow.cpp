@@ -93,7 +93,7 @@ void RiverFlow::allocate(FluidParticles& fluid) {
   }
 }
 
-void RiverFlow::emit(FluidParticles& fluid, double t) {
+void RiverFlow::emit(FluidParticles& fluid, double t, bool skip_when_empty) {
   const Vec3 velocity(config_.speed, 0, 0);
   while (true) {
     // Layer k enters when layer k - 1 (or the initial fill, whose first column sits on the
@@ -101,6 +101,12 @@ void RiverFlow::emit(FluidParticles& fluid, double t) {
     const double due = double(emitted_layers_ + 1) * interval_;
     if (due > t) break;
     const Real travelled = Real(t - due) * config_.speed;
+    const bool enough = pool_.size() >= layer_.size() && pool_[layer_.size() - 1].free_from <= t;
+    if (!enough && skip_when_empty) {
+      ++skipped_layers_;
+      ++emitted_layers_;
+      continue;
+    }
     for (const Vec3& p : layer_) {
       if (pool_.empty() || pool_.front().free_from > t)
         throw SimulationError(

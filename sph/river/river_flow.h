@@ -31,8 +31,12 @@ class RiverFlow {
 
   // Appends the pool's particles, inactive, to `fluid` (once, before the run).
   void allocate(FluidParticles& fluid);
-  // Activates the inflow layers due by time t. Throws SimulationError when the pool is empty.
-  void emit(FluidParticles& fluid, double t);
+  // Activates the inflow layers due by time t. Throws SimulationError when the pool is empty,
+  // unless `skip_when_empty`: then a layer the pool cannot fill is skipped and counted (a
+  // learned forecast whose reach backs up, so that the outflow returns too little water, goes
+  // on with less inflow and says so; a solver run stops).
+  void emit(FluidParticles& fluid, double t, bool skip_when_empty = false);
+  long skipped_layers() const { return skipped_layers_; }
   // After a step ending at time t: holds the buffer at the inflow velocity and retires the
   // particles past the outflow plane.
   void after_step(FluidParticles& fluid, double t);
@@ -74,6 +78,7 @@ class RiverFlow {
   double interval_ = 0;
   long emitted_layers_ = 0;
   long emitted_ = 0, retired_ = 0, fallen_ = 0;
+  long skipped_layers_ = 0;
   Real floor_z_;  // below this a particle has left the reach over an edge of the terrain
   std::deque<PoolEntry> pool_;
   std::vector<Index> retiring_;

@@ -13,7 +13,7 @@ namespace sph {
 
 void Simulation::release_sources() {
   for (auto& emitter : emitters_) emitter.emit(fluid_, time_);
-  if (flow_) flow_->emit(fluid_, time_);
+  if (flow_) flow_->emit(fluid_, time_, /*skip_when_empty=*/true);
 }
 
 ExternalFrameStats Simulation::apply_external_frame(double t_end, const std::vector<Vec3>& position,

@@ -82,7 +82,8 @@ class Simulation : private SolverHost {
   // frame appears at its frame's end, advected from its due time, as in a solver run).
   //
   // Activates what the emitters and the river's inflow release by time(), each particle placed
-  // where it would be now had it left at its due time (as in a solver run).
+  // where it would be now had it left at its due time (as in a solver run). An inflow layer its
+  // pool cannot fill is skipped and counted (RiverFlow::skipped_layers), not an error.
   void release_sources();
   // Moves the active particles (in fluid()'s order, unchanged since release_sources()) to
   // `position` with oil fractions `oil_fraction` at time t_end, velocities from the displacement.

@@ -123,5 +123,26 @@ TEST(RiverFlow, RecycledWaterReentersAfterItsCooldown) {
   EXPECT_THROW(flow.emit(fluid, 3 * interval), SimulationError);
 }
 
+// A forecast whose reach returns too little water goes on with less inflow: a layer the pool
+// cannot fill is skipped whole and counted (a solver run stops instead, as above).
+TEST(RiverFlow, AForecastSkipsTheLayersAnEmptyPoolCannotFill) {
+  const Terrain t = generate_river(straight_river());
+  FlowConfig config = flow_config();
+  config.reserve_s = Real(0.07);  // two layers
+  RiverFlow flow(config, t, 0, kSpacing, Real(1.25e-4), water(), kFrameDt);
+  FluidParticles fluid;
+  flow.allocate(fluid);
+  const Index layer = Index(flow.layer().size());
+  const double interval = double(kSpacing) / double(config.speed);
+  flow.emit(fluid, 5.5 * interval, /*skip_when_empty=*/true);  // 5 layers due, 2 in the pool
+  EXPECT_EQ(fluid.active_count(), 2 * layer);
+  EXPECT_EQ(flow.skipped_layers(), 3);
+  EXPECT_EQ(flow.emitted(), long(2 * layer));
+  // The schedule goes on: the next layer is due at 6 intervals, and is skipped too.
+  flow.emit(fluid, 6.5 * interval, true);
+  EXPECT_EQ(flow.skipped_layers(), 4);
+  EXPECT_THROW(flow.emit(fluid, 7.5 * interval), SimulationError);
+}
+
 }  // namespace
 }  // namespace sph
