@@ -83,6 +83,88 @@ sph::LoadedScene load_predicted_scene(const PredictOptions& o) {
   return sph::load_scene(o.scene_file, overrides);
 }
 
+common::OutputFolderPolicy output_policy(const PredictOptions& o) {
+  common::OutputFolderPolicy policy;
+  policy.markers = {"metadata.json", "trajectory.h5", "stats.json"};
+  policy.replace = true;
+  policy.inputs = {o.scene_file, o.checkpoint};
+  if (!o.initial_state.empty()) policy.inputs.push_back(o.initial_state);
+  policy.log = o.log;
+  return policy;
+}
+
+// The frame the forecast starts from: 0, or that of a saved state, which must be before the end.
+int first_predicted_frame(const sph::Simulation& sim, const sph::LoadedScene& scene,
+                          const std::string& initial_state) {
+  const double frame_dt = sph::shortest_decimal(scene.config.output.frame_dt);
+  const int first = int(std::llround(sim.time() / frame_dt));
+  if (first >= sph::frame_count(scene.config))
+    throw common::ConfigError(initial_state, "/time",
+                              "the state is at t = " + text(sim.time()) +
+                                  " s, at or after the scene's /end_time " +
+                                  text(scene.config.end_time) +
+                                  " s: nothing is left to predict (raise it with --end-time)");
+  return first;
+}
+
+// --relax: that many iterations of the scene's density correction on every learned frame.
+gnn::FrameCorrection relaxation_hook(const sph::SceneConfig& scene, int iterations) {
+  if (iterations <= 0) return {};
+  auto relaxation = std::make_shared<sph::DensityRelaxation>(scene);
+  return [relaxation, iterations](torch::Tensor& position, const torch::Tensor& fraction) {
+    auto x = gnn::vectors_of(position);
+    relaxation->relax(x, gnn::reals_of(fraction), iterations);
+    position = gnn::tensor_of(x);
+  };
+}
+
+// spill-sim run's metadata.json, saying which model predicted it.
+nlohmann::json predict_metadata(const sph::Simulation& sim, const sph::LoadedScene& scene,
+                                int frames, const PredictOptions& o,
+                                const gnn::LoadedCheckpoint& checkpoint) {
+  const std::string model = checkpoint.simulator->model().name();
+  nlohmann::json metadata = sph::run_metadata(sim, scene, frames);
+  metadata["predicted_by"] = {
+      {"checkpoint", o.checkpoint},
+      {"model", model},
+      {"weights_checksum", checkpoint.payload_checksum},
+      {"relax_iterations", o.relax},
+      {"note",
+       "positions and oil fractions from the learned simulator; the scene's emitters, inflow, "
+       "outflow and domain released and retired particles between its frames"}};
+  metadata["solver"] = model;
+  return metadata;
+}
+
+// stats.json's summary of a forecast.
+nlohmann::json predict_summary(const sph::Simulation& sim, const gnn::SceneRollout& stepper,
+                               double wall_s, int frames, double start_time,
+                               const PredictOptions& o, const std::string& model) {
+  nlohmann::json summary = {
+      {"wall_s", wall_s},
+      {"frames", frames},
+      {"wall_s_per_frame", wall_s / double(std::max(1, frames))},
+      {"simulated_s", sim.time() - start_time},
+      {"fluid_particles", sim.fluid().active_count()},
+      {"boundary_particles", sim.boundary().size()},
+      {"threads", o.threads},
+      {"model", model},
+      {"retired", stepper.retired().retired},
+      {"left_domain", stepper.retired().left_domain},
+      {"note",
+       "wall_s: the learned frames with their sources, sinks and recording (pictures excluded "
+       "only when --png is off); left_domain: particles the model moved out of the domain, "
+       "which a solver run would stop on"}};
+  if (const sph::RiverFlow* flow = sim.flow())
+    summary["flow"] = {{"emitted", flow->emitted()},
+                       {"retired", flow->retired()},
+                       {"skipped_inflow_layers", flow->skipped_layers()},
+                       {"skipped_note",
+                        "inflow layers the pool of returned water could not fill: the forecast "
+                        "backed the reach up (a solver run stops there)"}};
+  return summary;
+}
+
 }  // namespace
 
 nlohmann::json run_predict(const PredictOptions& o) {
@@ -95,54 +177,24 @@ nlohmann::json run_predict(const PredictOptions& o) {
       o.blas_threads > 0 ? gnn::RuntimeSettings{o.threads, o.blas_threads}
                          : gnn::inference_runtime(o.threads, model.infers_on_one_blas_thread()));
 
-  common::OutputFolderPolicy policy;
-  policy.markers = {"metadata.json", "trajectory.h5", "stats.json"};
-  policy.replace = true;
-  policy.inputs = {o.scene_file, o.checkpoint};
-  if (!o.initial_state.empty()) policy.inputs.push_back(o.initial_state);
-  policy.log = o.log;
-  common::OutputFolder output(o.out_dir, policy);
+  common::OutputFolder output(o.out_dir, output_policy(o));
   const fs::path& staging = output.staging();
 
   sph::Simulation sim(scene.config);
   if (!o.initial_state.empty()) sim.load_state(o.initial_state);
   const int frames = sph::frame_count(scene.config);
   const double frame_dt = sph::shortest_decimal(scene.config.output.frame_dt);
-  const int first = int(std::llround(sim.time() / frame_dt));
-  if (first >= frames)
-    throw common::ConfigError(o.initial_state, "/time",
-                              "the state is at t = " + text(sim.time()) +
-                                  " s, at or after the scene's /end_time " +
-                                  text(scene.config.end_time) +
-                                  " s: nothing is left to predict (raise it with --end-time)");
+  const int first = first_predicted_frame(sim, scene, o.initial_state);
   // The wall-distance features are measured to this scene's domain, as the data's were to its.
   gnn::LearnedSimulator learned(checkpoint.simulator->model_ptr(),
                                 checkpoint.simulator->normalisation(), bounds_of(sim.domain()),
                                 scene.config.particle_radius);
   gnn::SceneRollout stepper(learned, sim, gnn::material_table(scene.resolved.at("materials")),
                             frame_dt, scene.file);
-  std::unique_ptr<sph::DensityRelaxation> relaxation;
-  gnn::FrameCorrection correct;
-  if (o.relax > 0) {
-    relaxation = std::make_unique<sph::DensityRelaxation>(scene.config);
-    correct = [&](torch::Tensor& position, const torch::Tensor& fraction) {
-      auto x = gnn::vectors_of(position);
-      relaxation->relax(x, gnn::reals_of(fraction), o.relax);
-      position = gnn::tensor_of(x);
-    };
-  }
-
-  nlohmann::json metadata = sph::run_metadata(sim, scene, frames - first);
-  metadata["predicted_by"] = {
-      {"checkpoint", o.checkpoint},
-      {"model", model.name()},
-      {"weights_checksum", checkpoint.payload_checksum},
-      {"relax_iterations", o.relax},
-      {"note",
-       "positions and oil fractions from the learned simulator; the scene's emitters, inflow, "
-       "outflow and domain released and retired particles between its frames"}};
-  metadata["solver"] = model.name();
-  common::write_file_atomically(staging / "metadata.json", metadata.dump(2) + "\n");
+  const gnn::FrameCorrection correct = relaxation_hook(scene.config, o.relax);
+  common::write_file_atomically(
+      staging / "metadata.json",
+      predict_metadata(sim, scene, frames - first, o, checkpoint).dump(2) + "\n");
   sph::RunRecorder recorder(sim, scene.config, {o.png, false}, staging);
   recorder.record(sim, first);
 
@@ -170,28 +222,8 @@ nlohmann::json run_predict(const PredictOptions& o) {
   const double wall_s =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   recorder.close_trajectory();
-  nlohmann::json summary = {
-      {"wall_s", wall_s},
-      {"frames", frames - first},
-      {"wall_s_per_frame", wall_s / double(std::max(1, frames - first))},
-      {"simulated_s", sim.time() - double(first) * frame_dt},
-      {"fluid_particles", sim.fluid().active_count()},
-      {"boundary_particles", sim.boundary().size()},
-      {"threads", o.threads},
-      {"model", model.name()},
-      {"retired", stepper.retired().retired},
-      {"left_domain", stepper.retired().left_domain},
-      {"note",
-       "wall_s: the learned frames with their sources, sinks and recording (pictures excluded "
-       "only when --png is off); left_domain: particles the model moved out of the domain, "
-       "which a solver run would stop on"}};
-  if (const sph::RiverFlow* flow = sim.flow())
-    summary["flow"] = {{"emitted", flow->emitted()},
-                       {"retired", flow->retired()},
-                       {"skipped_inflow_layers", flow->skipped_layers()},
-                       {"skipped_note",
-                        "inflow layers the pool of returned water could not fill: the forecast "
-                        "backed the reach up (a solver run stops there)"}};
+  const nlohmann::json summary =
+      predict_summary(sim, stepper, wall_s, frames - first, first * frame_dt, o, model.name());
   common::write_file_atomically(
       staging / "stats.json",
       nlohmann::json{{"frames", frame_list}, {"summary", summary}}.dump(2) + "\n");
