@@ -252,8 +252,8 @@ TrainingBatch Trainer::sample_batch() {
     auto next = t.position[frame + 1].index_select(0, ids);
     gnn::FrameNodes nodes{noisy, fraction, t.material, t.boundary};
     graphs.push_back(simulator_->encode(nodes));
-    targets.push_back(simulator_->normalise_acceleration(
-        gnn::noisy_target_acceleration(history, noisy, next)));
+    targets.push_back(
+        simulator_->normalise_acceleration(gnn::noisy_target_acceleration(history, noisy, next)));
     fraction_targets.push_back(simulator_->normalise_fraction_change(
         t.oil_fraction[frame + 1].index_select(0, ids) - fraction));
     masks.push_back(t.active[frame + 1].index_select(0, ids));

@@ -255,8 +255,7 @@ TEST(Noise, TargetCorrectsTheVelocityNoiseAsGnsDefinesIt) {
   EXPECT_TRUE(torch::allclose(a, true_velocity - noisy_velocity, 0, 1e-6));
   // Stepped from the noisy state, the prediction lands at next plus the last position's noise.
   const auto landed = noisy.select(1, 5) + noisy_velocity + a;
-  EXPECT_TRUE(
-      torch::allclose(landed, next + (noisy.select(1, 5) - clean.select(1, 5)), 0, 1e-6));
+  EXPECT_TRUE(torch::allclose(landed, next + (noisy.select(1, 5) - clean.select(1, 5)), 0, 1e-6));
   EXPECT_GT((landed - next).abs().max().item<float>(), 1e-3);  // the noise is not undone
   // Without noise it is the plain target.
   EXPECT_TRUE(torch::allclose(gnn::noisy_target_acceleration(clean, clean, next),
