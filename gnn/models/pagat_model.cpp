@@ -18,12 +18,13 @@ PagatModel::PagatModel(const PagatConfig& config) : config_(config) {
   node_encoder_ = register_module("node_encoder",
                                   Mlp(kNodeFeatures + config.input.type_embedding, L, L, H, true));
   edge_encoder_ = register_module("edge_encoder", Mlp(kEdgeFeatures, L, L, H, true));
-  if (config.attention && config.physics_aware)
+  const bool agnb = config.processor == "agnb";
+  if (agnb && config.physics_aware)
     physics_ = register_module("physics", PhysicsModule(config.physics_width, config.heads));
   for (int k = 0; k < config.blocks; ++k) {
     std::shared_ptr<ProcessorBlock> block;
-    if (config.attention)
-      block = std::make_shared<AgnbBlock>(L, config.heads, H);
+    if (agnb)
+      block = std::make_shared<AgnbBlock>(L, config.heads, H, config.attention);
     else
       block = std::make_shared<GnBlock>(L, H);
     blocks_.push_back(register_module("block" + std::to_string(k), block));
@@ -93,7 +94,19 @@ std::shared_ptr<GraphModel> PagatModel::from_config(const nlohmann::json& config
   if (c.latent % c.heads != 0)
     throw common::ConfigError(file, "/latent",
                               "must be a multiple of heads (" + std::to_string(c.heads) + ")");
+  if (c.processor == "gn" && c.physics_aware)
+    throw common::ConfigError(file, "/physics_aware",
+                              "the gn processor has no attention scores to bias: set it false "
+                              "with \"processor\": \"gn\"");
   return std::make_shared<PagatModel>(c);
+}
+
+nlohmann::json upgrade_stored_pagat_config(nlohmann::json stored) {
+  if (!stored.is_object() || stored.contains("processor")) return stored;
+  const bool plain_blocks = !stored.value("attention", true);
+  stored["processor"] = plain_blocks ? "gn" : "agnb";
+  if (plain_blocks) stored["physics_aware"] = false;
+  return stored;
 }
 
 nlohmann::json PagatModel::config() const {

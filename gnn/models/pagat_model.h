@@ -5,9 +5,12 @@
 //    the node class is deliberately not an input: the class head below has to infer it, which is
 //    what the attention loss L_att asks of the latents.
 //  - `blocks` processor steps with separate weights: AGNB blocks (pagat/agnb_block.h), or with
-//    "attention": false the plain GN blocks of the ablation.
+//    "processor": "gn" GNS's plain interaction steps.
 //  - The physics-aware module (pagat/physics_module.h), run once and shared by all blocks, adds
 //    per-head biases to every block's attention scores; "physics_aware": false switches it off.
+//  - The ablations take away one part each: "attention": false drops the blocks' learned
+//    (content) scores, so the physics-aware biases alone weigh the neighbours (with neither, every
+//    neighbour of a type weighs the same); "physics_aware": false drops the biases.
 //  - Decoder MLP to the 4 shared outputs (acceleration, oil fraction change), and a linear class
 //    head on the last node latents, the logits of water/oil x inner/surface [n, 4], returned as
 //    ModelOutput::auxiliary["node_class_logits"] for L_att.
@@ -35,6 +38,7 @@ struct PagatConfig {
   int mlp_hidden_layers = 1;
   int heads = 4;
   int physics_width = 32;
+  std::string processor = "agnb";
   bool attention = true;
   bool physics_aware = true;
   double gamma = 0.92;
@@ -57,8 +61,15 @@ struct PagatConfig {
                 .at_most(64));
     v.field("physics_width", physics_width,
             param("", "width of the physics-aware module's relation encoder").at_least(1));
+    v.field("processor", processor,
+            param("",
+                  "processor blocks: agnb (PAGATNet's) or gn (GNS's plain interaction step, "
+                  "which has no attention: use it with physics_aware false)")
+                .one_of({"agnb", "gn"}));
     v.field("attention", attention,
-            param("", "AGNB blocks with attention (false: plain GN blocks, the ablation)"));
+            param("",
+                  "the AGNB blocks' learned attention scores (false: the physics-aware biases "
+                  "alone weigh the neighbours, the ablation)"));
     v.field("physics_aware", physics_aware,
             param("", "add the physics-aware module's biases to the attention scores"));
     v.field("gamma", gamma,
@@ -76,6 +87,10 @@ struct PagatConfig {
     input.describe(v);
   }
 };
+
+// A model config stored in a checkpoint written before "processor" existed: "attention": false
+// then meant plain GN blocks without the physics-aware module; returns it in today's keys.
+nlohmann::json upgrade_stored_pagat_config(nlohmann::json stored);
 
 class PagatModel : public GraphModel {
  public:

@@ -7,6 +7,7 @@
 
 #include "common/checked_file.h"
 #include "common/fnv1a.h"
+#include "gnn/models/pagat_model.h"
 
 namespace gnn {
 namespace {
@@ -159,6 +160,7 @@ LoadedCheckpoint load_unchecked(const std::string& path,
   nlohmann::json model_config, data;
   try {
     model_config = nlohmann::json::parse(read_text(archive, "model_config", path));
+    if (name == "pagat") model_config = upgrade_stored_pagat_config(model_config);
     out.data = nlohmann::json::parse(read_text(archive, "data", path));
     out.state.training_config = nlohmann::json::parse(read_text(archive, "training_config", path));
   } catch (const nlohmann::json::exception& e) {

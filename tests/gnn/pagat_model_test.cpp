@@ -1,6 +1,7 @@
 // PAGATNet (gnn/models/pagat_model.h) on hand-made typed graphs: shapes for no edge, one edge and
 // many, every parameter reached by the gradient when all four link types are present, the class
-// head, the ablation switches, and clear errors for a graph without typing or a bad config.
+// head, the ablation switches (one part each), and clear errors for a graph without typing or a bad
+// config.
 #include <gtest/gtest.h>
 
 #include "common/config_error.h"
@@ -8,6 +9,7 @@
 #include "gnn/graph/heterogeneous_typing.h"
 #include "gnn/graph/radius_graph.h"
 #include "gnn/models/graph_model.h"
+#include "gnn/models/pagat_model.h"
 #include "tests/gnn/typed_graphs.h"
 
 namespace {
@@ -83,35 +85,93 @@ TEST(PagatModel, EveryParameterIsReachedWhenAllLinkTypesArePresent) {
   EXPECT_GT(physics, 0);
 }
 
-// The ablations are switches: without attention the blocks are plain GN blocks (no attention
-// or physics parameters); without the physics-aware module there are no physics parameters and
-// the output changes.
-TEST(PagatModel, AblationSwitchesRemoveTheirParts) {
-  torch::manual_seed(33);
+// The ablations take away one part each. Without attention the blocks keep the physics-aware
+// module, whose biases alone now weigh the neighbours: its parameters are there, the gradient
+// reaches them, and changing them changes the output. Without the physics-aware module the
+// learned scores stay. With both off every neighbour of a type weighs the same.
+TEST(PagatModel, AblationSwitchesRemoveOnePartEach) {
   const auto g = typed_graphs::random_typed_graph(200, 0.25);
   auto count = [](const gnn::GraphModel& m, const std::string& part) {
     int k = 0;
     for (const auto& p : m.named_parameters()) k += p.key().find(part) != std::string::npos;
     return k;
   };
+  auto with = [](const char* key, bool value) {
+    auto c = kSmallPagat;
+    c[key] = value;
+    return c;
+  };
+  torch::manual_seed(33);
   auto full = gnn::make_model(kSmallPagat, "test");
-  auto plain = kSmallPagat;
-  plain["attention"] = false;
-  auto no_attention = gnn::make_model(plain, "test");
-  auto physics_off = kSmallPagat;
-  physics_off["physics_aware"] = false;
-  torch::manual_seed(34);
-  auto a = gnn::make_model(physics_off, "test");
+  auto no_attention = gnn::make_model(with("attention", false), "test");
+  auto no_physics = gnn::make_model(with("physics_aware", false), "test");
+  auto neither_config = with("attention", false);
+  neither_config["physics_aware"] = false;
+  auto neither = gnn::make_model(neither_config, "test");
   EXPECT_GT(count(*full, "attention_"), 0);
   EXPECT_GT(count(*full, "physics."), 0);
   EXPECT_EQ(count(*no_attention, "attention_"), 0);
-  EXPECT_EQ(count(*no_attention, "physics."), 0);
-  EXPECT_EQ(count(*a, "physics."), 0);
-  EXPECT_GT(count(*a, "attention_"), 0);
-  for (auto* m : {full.get(), no_attention.get(), a.get()}) {
+  EXPECT_GT(count(*no_attention, "physics."), 0);
+  EXPECT_EQ(count(*no_physics, "physics."), 0);
+  EXPECT_GT(count(*no_physics, "attention_"), 0);
+  EXPECT_EQ(count(*neither, "attention_") + count(*neither, "physics."), 0);
+  // Every block of each ablation keeps its AGNB parts.
+  for (auto* m : {no_attention.get(), no_physics.get(), neither.get()})
+    EXPECT_EQ(count(*m, "phi_b_"), count(*full, "phi_b_"));
+
+  no_attention->train();
+  const auto out = no_attention->forward(g, {});
+  out.acceleration.pow(2).sum().backward();
+  torch::Tensor physics_weight;
+  for (const auto& p : no_attention->named_parameters())
+    if (p.key().rfind("physics.", 0) == 0) {
+      ASSERT_TRUE(p.value().grad().defined()) << p.key();
+      EXPECT_GT(p.value().grad().abs().sum().item<double>(), 0) << p.key();
+      if (!physics_weight.defined() && p.value().dim() == 2) physics_weight = p.value();
+    }
+  ASSERT_TRUE(physics_weight.defined());
+  no_attention->eval();
+  const auto before = no_attention->acceleration(g);
+  {
+    torch::NoGradGuard no_grad;
+    physics_weight.add_(torch::randn_like(physics_weight));
+  }
+  EXPECT_GT((no_attention->acceleration(g) - before).abs().max().item<double>(), 1e-6);
+  for (auto* m : {full.get(), no_physics.get(), neither.get()}) {
     m->eval();
     EXPECT_TRUE(torch::isfinite(m->acceleration(g)).all().item<bool>());
   }
+}
+
+// Plain GN blocks are their own choice, with no attention to bias: the config says so, and a
+// checkpoint written when "attention": false meant them is read as them.
+TEST(PagatModel, GnProcessorIsExplicitAndOldCheckpointConfigsMeanIt) {
+  auto gn = kSmallPagat;
+  gn["processor"] = "gn";
+  try {
+    gnn::make_model(gn, "gn.json");
+    ADD_FAILURE() << "accepted gn with the physics-aware module";
+  } catch (const common::ConfigError& e) {
+    EXPECT_EQ(e.pointer(), "/physics_aware");
+  }
+  gn["physics_aware"] = false;
+  auto plain = gnn::make_model(gn, "gn.json");
+  auto count = [](const gnn::GraphModel& m, const std::string& part) {
+    int k = 0;
+    for (const auto& p : m.named_parameters()) k += p.key().find(part) != std::string::npos;
+    return k;
+  };
+  EXPECT_EQ(count(*plain, "attention_") + count(*plain, "physics.") + count(*plain, "phi_b_"), 0);
+  auto old = kSmallPagat;
+  old["attention"] = false;
+  old["physics_aware"] = true;
+  const auto upgraded = gnn::upgrade_stored_pagat_config(old);
+  EXPECT_EQ(upgraded["processor"], "gn");
+  EXPECT_EQ(upgraded["physics_aware"], false);
+  EXPECT_EQ(gnn::upgrade_stored_pagat_config(kSmallPagat)["processor"], "agnb");
+  auto current = old;
+  current["processor"] = "agnb";
+  EXPECT_EQ(gnn::upgrade_stored_pagat_config(current), current);
 }
 
 TEST(PagatModel, AGraphWithoutTypingOrABadConfigIsAClearError) {

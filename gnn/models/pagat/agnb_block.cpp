@@ -46,7 +46,8 @@ torch::Tensor NormalisedMlpImpl::forward_after_first(const torch::Tensor& pre) {
   return norm_->forward(torch::relu(mlp_->forward_after_first(pre)));
 }
 
-AgnbBlock::AgnbBlock(int64_t L, int64_t heads, int H) : latent_(L), heads_(heads) {
+AgnbBlock::AgnbBlock(int64_t L, int64_t heads, int H, bool content_attention)
+    : latent_(L), heads_(heads), content_attention_(content_attention) {
   edge_mlp_ = register_module("edge_mlp", Mlp(L, L, L, H, false));
   edge_nodes_ = register_module("edge_nodes", linear(L, 2 * L, false));
   edge_conv_ = register_module("edge_conv", linear(L, L, true));
@@ -61,11 +62,13 @@ AgnbBlock::AgnbBlock(int64_t L, int64_t heads, int H) : latent_(L), heads_(heads
   velocity_skip_ = register_module("velocity_skip", Mlp(L, L, L, H, false));
   for (size_t t = 0; t < size_t(kLinkTypes); ++t) {
     const std::string name = kLinkNames[t];
-    source_[t] = register_module("attention_" + name + "_source", linear(L, L, false));
-    target_[t] = register_module("attention_" + name + "_target", linear(L, L, true));
-    edge_[t] = register_module("attention_" + name + "_edge", linear(L, L, false));
-    attention_[t] = register_parameter("attention_" + name + "_vector",
-                                       torch::randn({heads, L / heads}) / std::sqrt(double(L)));
+    if (content_attention) {
+      source_[t] = register_module("attention_" + name + "_source", linear(L, L, false));
+      target_[t] = register_module("attention_" + name + "_target", linear(L, L, true));
+      edge_[t] = register_module("attention_" + name + "_edge", linear(L, L, false));
+      attention_[t] = register_parameter("attention_" + name + "_vector",
+                                         torch::randn({heads, L / heads}) / std::sqrt(double(L)));
+    }
     phi_b_[t] = register_module("phi_b_" + name, NormalisedMlp(2 * L, L, H));
   }
   phi_a_ = register_module("phi_a", NormalisedMlp(L, L, H));
@@ -80,6 +83,24 @@ torch::Tensor AgnbBlock::batch_norm(torch::nn::BatchNorm1d& bn, const torch::Ten
   if (x.size(0) > 1 || !is_training()) return bn->forward(x);
   return torch::batch_norm(x, bn->weight, bn->bias, bn->running_mean, bn->running_var,
                            /*training=*/false, 0.0, bn->options.eps(), /*cudnn_enabled=*/false);
+}
+
+torch::Tensor AgnbBlock::scores(size_t t, const torch::Tensor& h, const torch::Tensor& e1,
+                                const TypedGraph& g) {
+  const auto& idx = g.types[t].edges;
+  const int64_t L = latent_;
+  torch::Tensor score;
+  if (content_attention_) {
+    const auto z = torch::leaky_relu(source_[t]->forward(h).index_select(0, g.senders[t]) +
+                                         target_[t]->forward(h).index_select(0, g.receivers[t]) +
+                                         edge_[t]->forward(e1.index_select(0, idx)),
+                                     0.2);
+    score = (z.view({-1, heads_, L / heads_}) * attention_[t]).sum(2);
+  } else {
+    score = torch::zeros({idx.size(0), heads_}, h.options());
+  }
+  if (g.physics_bias.defined()) score = score + g.physics_bias.index_select(0, idx);
+  return score;
 }
 
 BlockLatents AgnbBlock::forward(const BlockLatents& in, const TypedGraph& g) {
@@ -116,13 +137,8 @@ BlockLatents AgnbBlock::forward(const BlockLatents& in, const TypedGraph& g) {
       continue;
     }
     const auto idx = typed.edges;
-    auto z = torch::leaky_relu(source_[t]->forward(h).index_select(0, g.senders[t]) +
-                                   target_[t]->forward(h).index_select(0, g.receivers[t]) +
-                                   edge_[t]->forward(e1.index_select(0, idx)),
-                               0.2);
-    auto score = (z.view({-1, heads_, L / heads_}) * attention_[t]).sum(2);  // [E_T, heads]
-    if (g.physics_bias.defined()) score = score + g.physics_bias.index_select(0, idx);
-    const auto alpha = segment_softmax(score, g.receivers[t], typed.offsets).mean(1, true);
+    const auto alpha =
+        segment_softmax(scores(t, h, e1, g), g.receivers[t], typed.offsets).mean(1, true);
     auto message = phi_a.index_select(0, idx);
     if (int64_t(t) == kLinkST) message = message * message;  // the attention-gated product
     aggregated[t] = segment_sum(alpha * message, g.receivers[t], typed.offsets);  // [n, L]
@@ -147,9 +163,11 @@ double AgnbBlock::flops(int64_t nodes, int64_t edges) const {
             dp_inner_->flops_per_row() + dp_outer_->flops_per_row() + update_->flops_per_row());
   // Each edge is of one type: its attention's edge projection; every node runs the four types'
   // source and target projections and the four phi_B.
-  f += E * linear_flops(edge_[0]);
-  for (size_t t = 0; t < size_t(kLinkTypes); ++t)
-    f += n * (linear_flops(source_[t]) + linear_flops(target_[t]) + phi_b_[t]->flops_per_row());
+  if (content_attention_) f += E * linear_flops(edge_[0]);
+  for (size_t t = 0; t < size_t(kLinkTypes); ++t) {
+    f += n * phi_b_[t]->flops_per_row();
+    if (content_attention_) f += n * (linear_flops(source_[t]) + linear_flops(target_[t]));
+  }
   return f;
 }
 

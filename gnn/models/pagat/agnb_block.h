@@ -1,6 +1,6 @@
 #pragma once
-// One processor step of PAGATNet (docs/models.md, "AGNB block") and the plain GN block replacing
-// it in the no-attention ablation. Both map node latents v [n, L] and edge latents e [E, L] to
+// One processor step of PAGATNet (docs/models.md, "AGNB block") and the plain GN block that
+// replaces it with "processor": "gn". Both map node latents v [n, L] and edge latents e [E, L] to
 // new ones, with residuals.
 //
 // AGNB, our reading of the paper's equations:
@@ -14,7 +14,8 @@
 //  2. Attention per link type T (ST, SP, DP, BD), GATv2 form with `heads` heads of L / heads
 //     channels: s_ab,k = a_T,k . LeakyReLU(W_T,src h_b + W_T,dst h_a + W_T,e e'_ab)_k, plus the
 //     physics-aware module's bias for head k; a softmax over a's neighbours of type T
-//     (segment_softmax); the heads' weights are averaged (the paper's eq. 57).
+//     (segment_softmax); the heads' weights are averaged (the paper's eq. 57). Without content
+//     attention (the ablation) s_ab,k is the physics bias alone, or 0 (equal weights) without it.
 //  3. Messages phi_A = LN(ReLU(MLP([e'_ab, h_a, h_b]))) on every edge, aggregated per type with
 //     the attention weights alpha:
 //       STA = phi_B([h_a, sum alpha phi_A * phi_A])    (the attention-gated product)
@@ -29,7 +30,7 @@
 // (W_b v)[b] (per-node projections gathered to the edges, not an [E, 3L] product: E is ~8 n),
 // and so are the attention's W_T,src h_b and W_T,dst h_a; only W_T,e e'_ab is per edge.
 //
-// GN block (ablation "plain GN blocks instead of AGNB"): GNS's interaction step,
+// GN block ("processor": "gn", plain GN blocks instead of AGNB): GNS's interaction step,
 //   e <- e + MLP([e_ab, v_a, v_b]),  v <- v + MLP([v_a, sum_b e_ab]),  LayerNorm on both MLPs.
 
 #include <torch/torch.h>
@@ -84,7 +85,8 @@ TORCH_MODULE(NormalisedMlp);
 
 class AgnbBlock : public ProcessorBlock {
  public:
-  AgnbBlock(int64_t latent, int64_t heads, int hidden_layers);
+  // content_attention false: no learned scores (W_src, W_dst, W_e, a), the ablation.
+  AgnbBlock(int64_t latent, int64_t heads, int hidden_layers, bool content_attention = true);
   BlockLatents forward(const BlockLatents& in, const TypedGraph& graph) override;
   double flops(int64_t nodes, int64_t edges) const override;
 
@@ -92,7 +94,11 @@ class AgnbBlock : public ProcessorBlock {
   // BN over the rows; a batch of one row or none in training uses the running statistics
   // (batch statistics of a single row are undefined).
   torch::Tensor batch_norm(torch::nn::BatchNorm1d& bn, const torch::Tensor& x);
+  // The attention scores [E_T, heads] of link type t's edges.
+  torch::Tensor scores(size_t t, const torch::Tensor& h, const torch::Tensor& e1,
+                       const TypedGraph& g);
   int64_t latent_, heads_;
+  bool content_attention_;
   // Position-aware module; the edge MLP's first layer acts on e, `edge_nodes_` holds its parts
   // on the receiver's and the sender's latents ([receiver | sender], no bias).
   Mlp edge_mlp_{nullptr}, edge_message_{nullptr}, node_mlp_{nullptr}, velocity_mlp_{nullptr},
