@@ -13,7 +13,7 @@ namespace gnn {
 
 HeterogeneousTyping type_graph(const torch::Tensor& position_in, const torch::Tensor& node_type_in,
                                const torch::Tensor& edge_index_in, double radius,
-                               double particle_volume, double gamma) {
+                               double particle_volume, SurfaceRule rule) {
   const std::string where = "heterogeneous typing";
   check_tensor(where, "position", position_in, {-1, 3}, torch::kFloat32, torch::kCPU, false);
   const int64_t n = position_in.size(0);
@@ -39,12 +39,14 @@ HeterogeneousTyping type_graph(const torch::Tensor& position_in, const torch::Te
       throw std::invalid_argument(where + ": the edges are not sorted by receiver (edge " +
                                   std::to_string(k) + ")");
   }
-  // Kernel sums over the same phase (and the boundary), and whether a neighbour is of the other
-  // fluid phase.
+  // Kernel sums and neighbour centroids over the same phase (and the boundary), and whether a
+  // neighbour is of the other fluid phase.
   const sph::CubicSplineKernel kernel{sph::Real(radius)};
   const float self = float(kernel.value(sph::Real(0)) * particle_volume);
   auto kernel_sum = torch::zeros({n});
   float* sum = kernel_sum.data_ptr<float>();
+  std::vector<double> offset_sum(size_t(3 * n), 0.0);
+  std::vector<int64_t> same_phase_neighbours(size_t(n), 0);
   std::vector<char> other_phase_near(size_t(n), 0);
   for (int64_t i = 0; i < n; ++i)
     if (type[i] != kBoundary) sum[i] = self;
@@ -52,13 +54,30 @@ HeterogeneousTyping type_graph(const torch::Tensor& position_in, const torch::Te
     const int64_t i = receivers[k], j = senders[k];
     if (type[i] == kBoundary) continue;
     if (type[j] == kBoundary || type[j] == type[i]) {
-      const float dx = x[3 * i] - x[3 * j], dy = x[3 * i + 1] - x[3 * j + 1],
-                  dz = x[3 * i + 2] - x[3 * j + 2];
+      const float dx = x[3 * j] - x[3 * i], dy = x[3 * j + 1] - x[3 * i + 1],
+                  dz = x[3 * j + 2] - x[3 * i + 2];
       sum[i] +=
           float(kernel.value(sph::Real(std::sqrt(dx * dx + dy * dy + dz * dz))) * particle_volume);
+      offset_sum[size_t(3 * i)] += dx;
+      offset_sum[size_t(3 * i + 1)] += dy;
+      offset_sum[size_t(3 * i + 2)] += dz;
+      ++same_phase_neighbours[size_t(i)];
     } else {
       other_phase_near[size_t(i)] = 1;  // a fluid neighbour of the other phase: one hop
     }
+  }
+  const double diameter = std::cbrt(particle_volume);
+  auto centroid_offset = torch::zeros({n});
+  float* offset = centroid_offset.data_ptr<float>();
+  for (int64_t i = 0; i < n; ++i) {
+    if (type[i] == kBoundary) continue;
+    const auto count = double(same_phase_neighbours[size_t(i)]);
+    if (count == 0) {
+      offset[i] = float(radius / diameter);
+      continue;
+    }
+    const double* o = &offset_sum[size_t(3 * i)];
+    offset[i] = float(std::sqrt(o[0] * o[0] + o[1] * o[1] + o[2] * o[2]) / count / diameter);
   }
   // Two hops: a neighbour with the other phase one hop from it.
   std::vector<char> interface_band = other_phase_near;
@@ -70,6 +89,7 @@ HeterogeneousTyping type_graph(const torch::Tensor& position_in, const torch::Te
 
   HeterogeneousTyping out;
   out.kernel_sum = kernel_sum;
+  out.centroid_offset = centroid_offset;
   out.node_class = torch::empty({n}, torch::kInt64);
   int64_t* node_class = out.node_class.data_ptr<int64_t>();
   std::vector<char> surface(size_t(n), 0);
@@ -78,7 +98,10 @@ HeterogeneousTyping type_graph(const torch::Tensor& position_in, const torch::Te
       node_class[i] = kBoundaryClass;
       continue;
     }
-    surface[size_t(i)] = sum[i] < float(gamma) || interface_band[size_t(i)];
+    const bool by_rule = rule.kind == SurfaceRule::Kind::kKernelSum
+                             ? sum[i] < float(rule.threshold)
+                             : offset[i] > float(rule.threshold);
+    surface[size_t(i)] = by_rule || interface_band[size_t(i)];
     node_class[i] = (type[i] == kOil ? kOilInner : kWaterInner) + surface[size_t(i)];
   }
   out.link_type = torch::empty({E}, torch::kInt64);

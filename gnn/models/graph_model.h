@@ -19,6 +19,7 @@
 #include "gnn/data/dataset.h"
 #include "gnn/data/normalisation.h"
 #include "gnn/graph/graph_input.h"
+#include "gnn/graph/heterogeneous_typing.h"
 #include "gnn/models/model_input_config.h"
 
 namespace gnn {
@@ -69,8 +70,8 @@ class GraphModel : public torch::nn::Module {
   double noise_std() const { return input_config().noise_std; }  // velocity noise, m per frame
   // Whether the model reads GraphInput::node_class and link_type (they are built only then).
   virtual bool needs_typing() const { return false; }
-  // The surface threshold gamma of that typing (gnn/graph/heterogeneous_typing.h).
-  virtual double typing_gamma() const { return 0; }
+  // The surface rule of that typing (gnn/graph/heterogeneous_typing.h).
+  virtual SurfaceRule surface_rule() const { return {}; }
   // Whether training runs the model's heavy products in row chunks side by side (then it wants
   // BLAS on one thread, see training_runtime in gnn/runtime/runtime.h).
   virtual bool trains_in_chunks() const { return false; }

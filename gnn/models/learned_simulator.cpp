@@ -90,7 +90,7 @@ GraphInput LearnedSimulator::encode(const FrameNodes& f) const {
     const double diameter = 2 * particle_radius_;
     const HeterogeneousTyping typing =
         type_graph(position, type, graph.edge_index, radius, diameter * diameter * diameter,
-                   model_->typing_gamma());
+                   model_->surface_rule());
     g.node_class = typing.node_class;
     g.link_type = typing.link_type;
   }

@@ -102,7 +102,9 @@ std::shared_ptr<GraphModel> PagatModel::from_config(const nlohmann::json& config
 }
 
 nlohmann::json upgrade_stored_pagat_config(nlohmann::json stored) {
-  if (!stored.is_object() || stored.contains("processor")) return stored;
+  if (!stored.is_object()) return stored;
+  if (!stored.contains("surface_rule")) stored["surface_rule"] = "kernel_sum";
+  if (stored.contains("processor")) return stored;
   const bool plain_blocks = !stored.value("attention", true);
   stored["processor"] = plain_blocks ? "gn" : "agnb";
   if (plain_blocks) stored["physics_aware"] = false;

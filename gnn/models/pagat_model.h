@@ -41,6 +41,8 @@ struct PagatConfig {
   std::string processor = "agnb";
   bool attention = true;
   bool physics_aware = true;
+  std::string surface_rule = "neighbour_centroid";
+  double surface_offset = 0.26;
   double gamma = 0.92;
   int teacher_latent = 0;
   ModelInputConfig input;  // radius, noise_std, type_embedding
@@ -72,10 +74,23 @@ struct PagatConfig {
                   "alone weigh the neighbours, the ablation)"));
     v.field("physics_aware", physics_aware,
             param("", "add the physics-aware module's biases to the attention scores"));
+    v.field("surface_rule", surface_rule,
+            param("",
+                  "how a fluid node is typed surface: neighbour_centroid (its same-phase "
+                  "neighbours' mean position is more than surface_offset diameters away) or "
+                  "kernel_sum (its same-phase kernel sum is below gamma; the paper's rule, "
+                  "blind at 1.5 diameters: docs/results/surface_typing.md)")
+                .one_of({"neighbour_centroid", "kernel_sum"}));
+    v.field("surface_offset", surface_offset,
+            param("diameters",
+                  "neighbour_centroid's threshold (0.26: calibrated on river frames at 1.5 "
+                  "diameters; a lattice's flat top layer is at 0.38, its inside at 0)")
+                .positive()
+                .at_most(2));
     v.field("gamma", gamma,
             param("",
-                  "surface threshold of the same-phase kernel sum (a full neighbourhood has "
-                  "about 1)")
+                  "kernel_sum's threshold (0.92 splits a full lattice neighbourhood from a flat "
+                  "top layer at a support of 2 diameters)")
                 .positive()
                 .at_most(2));
     v.field("teacher_latent", teacher_latent,
@@ -88,8 +103,9 @@ struct PagatConfig {
   }
 };
 
-// A model config stored in a checkpoint written before "processor" existed: "attention": false
-// then meant plain GN blocks without the physics-aware module; returns it in today's keys.
+// A model config stored in a checkpoint written before "processor" or "surface_rule" existed:
+// "attention": false then meant plain GN blocks without the physics-aware module, and the surface
+// was typed by the kernel sum; returns it in today's keys.
 nlohmann::json upgrade_stored_pagat_config(nlohmann::json stored);
 
 class PagatModel : public GraphModel {
@@ -104,7 +120,11 @@ class PagatModel : public GraphModel {
   bool needs_typing() const override { return true; }
   // Measured (runtime.h): 2 + 1 threads about twice as fast as 2 + 2.
   bool infers_on_one_blas_thread() const override { return true; }
-  double typing_gamma() const override { return config_.gamma; }
+  SurfaceRule surface_rule() const override {
+    return config_.surface_rule == "kernel_sum"
+               ? SurfaceRule::kernel_sum(config_.gamma)
+               : SurfaceRule::neighbour_centroid(config_.surface_offset);
+  }
   nlohmann::json config() const override;
   double flops(int64_t nodes, int64_t edges) const override;
   const PagatConfig& pagat_config() const { return config_; }

@@ -1,6 +1,7 @@
 #include "gnn/training/pagat_objective.h"
 
 #include <cmath>
+#include <sstream>
 #include <stdexcept>
 
 #include "gnn/graph/heterogeneous_typing.h"
@@ -9,6 +10,15 @@
 namespace gnn {
 
 namespace {
+
+std::string describe_surface_rule(const PagatConfig& c) {
+  std::ostringstream text;
+  if (c.surface_rule == "kernel_sum")
+    text << "kernel_sum (gamma " << c.gamma << ")";
+  else
+    text << "neighbour_centroid (surface_offset " << c.surface_offset << ")";
+  return text.str();
+}
 
 EdgeOrder canonical_order(const GraphInput& g) {
   EdgeOrder order = edge_order(g.edge_index, g.nodes());
@@ -80,6 +90,14 @@ PagatObjective::PagatObjective(PagatModel& student, const PagatObjectiveSettings
     throw std::invalid_argument("distillation: the teacher's graph radius " +
                                 std::to_string(teacher_->radius()) +
                                 " differs from the student's " + std::to_string(student.radius()));
+  // The teacher reads the student's graph, typed by the student's rule.
+  if (s.surface_rule != t.surface_rule ||
+      (s.surface_rule == "kernel_sum" ? s.gamma != t.gamma : s.surface_offset != t.surface_offset))
+    throw std::invalid_argument("distillation: the teacher types the surface by " +
+                                describe_surface_rule(t) + ", the student by " +
+                                describe_surface_rule(s) +
+                                " (set the student's surface_rule and its threshold to the "
+                                "teacher's)");
 }
 
 size_t PagatObjective::teacher_block(size_t student_block) const {

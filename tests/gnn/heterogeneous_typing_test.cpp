@@ -45,7 +45,8 @@ Typed type_lattice(const torch::Tensor& fluid, const torch::Tensor& fluid_type,
   t.position = torch::cat({fluid, boundary.index_select(0, graph.boundary_nodes)});
   t.node_type = torch::cat({fluid_type, torch::full({kept}, gnn::kBoundary, torch::kInt64)});
   t.edge_index = graph.edge_index;
-  t.typing = gnn::type_graph(t.position, t.node_type, t.edge_index, kRadius, kVolume, kGamma);
+  t.typing = gnn::type_graph(t.position, t.node_type, t.edge_index, kRadius, kVolume,
+                             gnn::SurfaceRule::kernel_sum(kGamma));
   return t;
 }
 
@@ -93,6 +94,47 @@ TEST(HeterogeneousTyping, AFlatWaterLayerIsSurfaceOnTopAndInnerBelow) {
   EXPECT_TRUE(torch::equal(t.typing.link_type == gnn::kLinkBD, has_boundary_end));
   EXPECT_GT(has_boundary_end.sum().item<int64_t>(), 0);
   EXPECT_EQ((t.typing.link_type == gnn::kLinkDP).sum().item<int64_t>(), 0);
+}
+
+// The neighbour-centroid rule at the 1.5 d the river models use, on the same layer: a node's
+// neighbours are then the lattice points at d and sqrt(2) d (sqrt(3) d = 1.73 d is out). A top
+// node has 13 (4 + 4 beside it, 1 + 4 below), 5 of them one d lower and the rest level, so their
+// mean is 5/13 d = 0.385 d below it; a node with all 18 has its mean on itself. Threshold 0.25 d
+// types the top surface and everything below inner (the floor counts as the same phase).
+TEST(HeterogeneousTyping, TheNeighbourCentroidTypesAFlatLayerAtOneAndAHalfDiameters) {
+  const double radius = 1.5 * kSpacing;
+  auto water = lattice({0, 0, 0}, {9, 9, 4});
+  auto floor = lattice({-2, -2, -2}, {11, 11, -1});
+  auto graph = gnn::build_radius_graph(water, floor, radius);
+  const int64_t F = water.size(0);
+  auto position = torch::cat({water, floor.index_select(0, graph.boundary_nodes)});
+  auto type =
+      torch::cat({torch::zeros({F}, torch::kInt64),
+                  torch::full({graph.boundary_nodes.size(0)}, gnn::kBoundary, torch::kInt64)});
+  const auto typing = gnn::type_graph(position, type, graph.edge_index, radius, kVolume,
+                                      gnn::SurfaceRule::neighbour_centroid(0.25));
+  int checked_top = 0, checked_below = 0;
+  for (int64_t i = 0; i < F; ++i) {
+    const auto c = cell_of(position, i);
+    if (c[0] < 3 || c[0] > 6 || c[1] < 3 || c[1] > 6) continue;  // central columns only
+    const float offset = typing.centroid_offset[i].item<float>();
+    if (c[2] == 4) {
+      EXPECT_NEAR(offset, 5.0 / 13.0, 1e-4) << "top node " << i;
+      EXPECT_EQ(typing.node_class[i].item<int64_t>(), gnn::kWaterSurface);
+      ++checked_top;
+    } else {
+      EXPECT_NEAR(offset, 0.0, 1e-4) << "node " << i << " at z " << c[2];
+      EXPECT_EQ(typing.node_class[i].item<int64_t>(), gnn::kWaterInner);
+      ++checked_below;
+    }
+  }
+  EXPECT_EQ(checked_top, 16);
+  EXPECT_EQ(checked_below, 64);
+  // A lone particle has no neighbour to average: it is surface.
+  auto lone = gnn::type_graph(torch::zeros({1, 3}), torch::zeros({1}, torch::kInt64),
+                              torch::zeros({2, 0}, torch::kInt64), radius, kVolume,
+                              gnn::SurfaceRule::neighbour_centroid(0.25));
+  EXPECT_EQ(lone.node_class[0].item<int64_t>(), gnn::kWaterSurface);
 }
 
 // A 5 x 5 x 5 oil droplet in the middle of a 13 x 13 x 13 block of water: the droplet's rim is
@@ -230,7 +272,7 @@ TEST(HeterogeneousTyping, BadInputIsAClearError) {
   auto type = torch::zeros({n}, torch::kInt64);
   auto message = [&](const torch::Tensor& p, const torch::Tensor& ty, const torch::Tensor& e) {
     try {
-      gnn::type_graph(p, ty, e, kRadius, kVolume, kGamma);
+      gnn::type_graph(p, ty, e, kRadius, kVolume, gnn::SurfaceRule::kernel_sum(kGamma));
     } catch (const std::invalid_argument& error) {
       return std::string(error.what());
     }

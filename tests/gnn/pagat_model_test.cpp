@@ -169,8 +169,10 @@ TEST(PagatModel, GnProcessorIsExplicitAndOldCheckpointConfigsMeanIt) {
   EXPECT_EQ(upgraded["processor"], "gn");
   EXPECT_EQ(upgraded["physics_aware"], false);
   EXPECT_EQ(gnn::upgrade_stored_pagat_config(kSmallPagat)["processor"], "agnb");
+  EXPECT_EQ(upgraded["surface_rule"], "kernel_sum");
   auto current = old;
   current["processor"] = "agnb";
+  current["surface_rule"] = "neighbour_centroid";
   EXPECT_EQ(gnn::upgrade_stored_pagat_config(current), current);
 }
 

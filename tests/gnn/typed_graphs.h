@@ -18,7 +18,8 @@ inline gnn::GraphInput random_typed_graph(int64_t n, double radius) {
                            torch::full({n}, gnn::kWater, torch::kInt64));
   type = torch::where(z < 0.12, torch::full({n}, gnn::kBoundary, torch::kInt64), type);
   auto graph = gnn::build_radius_graph(points, torch::zeros({0, 3}), radius);
-  auto typing = gnn::type_graph(points, type, graph.edge_index, radius, 1.0 / double(n), 0.92);
+  auto typing = gnn::type_graph(points, type, graph.edge_index, radius, 1.0 / double(n),
+                                gnn::SurfaceRule::kernel_sum(0.92));
   gnn::GraphInput g;
   g.node_features = torch::randn({n, gnn::kNodeFeatures});
   g.node_type = type;
