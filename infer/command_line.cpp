@@ -67,6 +67,11 @@ CLI::App* add_compare_command(CLI::App& app, CompareOptions& compare) {
       ->check(CLI::ExistingFile);
   c->add_flag("--constant-velocity", compare.constant_velocity,
               "add the constant-velocity floor (every particle keeps its last velocity)");
+  c->add_option("--ceiling", compare.ceiling_jitter,
+                "add the ceiling: the dataset's own simulator run again from the same frame with "
+                "every position jittered by up to this many particle diameters (e.g. 0.001); "
+                "standalone only")
+      ->check(CLI::Range(0.0, 1.0));
   c->add_option("--data", compare.data_dir, "dataset folder (metadata.json and <split>.h5)")
       ->required()
       ->check(CLI::ExistingDirectory);

@@ -45,6 +45,9 @@ struct EvalOptions {
 struct CompareOptions {
   std::vector<std::string> checkpoints;
   bool constant_velocity = false;
+  // > 0: add the ceiling, the data's own simulator run again from the starting frame with the
+  // positions jittered by this many particle diameters (gnn/eval/solver_rollout.h)
+  double ceiling_jitter = 0;
   std::string data_dir;
   std::string split = "test";
   std::string out_dir;

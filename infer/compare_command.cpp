@@ -12,6 +12,7 @@
 #include "common/progress.h"
 #include "common/stop_signals.h"
 #include "gnn/data/frame_window.h"
+#include "gnn/eval/solver_rollout.h"
 #include "gnn/runtime/runtime.h"
 #include "gnn/training/checkpoint.h"
 #include "infer/commands.h"
@@ -25,9 +26,12 @@ namespace fs = std::filesystem;
 namespace {
 
 struct ComparedModel {
-  std::string name, source;  // row name; checkpoint file, or "built in"
-  std::unique_ptr<gnn::LearnedSimulator> simulator;
+  std::string name, source;                          // row name; checkpoint file, or "built in"
+  std::unique_ptr<gnn::LearnedSimulator> simulator;  // null for the ceiling (the data's solver)
 };
+
+// The ceiling's row: the data's own solver, from the same frame, positions jittered.
+constexpr const char* kCeilingName = "sph_ceiling";
 
 // A run's folder names its checkpoint (RUN/last.pt -> RUN); other files go by their stem.
 std::string model_name(const std::string& checkpoint) {
@@ -56,7 +60,13 @@ std::vector<ComparedModel> load_models(const CompareOptions& o, const gnn::Datas
          std::make_unique<gnn::LearnedSimulator>(
              model, gnn::Normalisation::from_metadata(m, 0.0, 0.0), m.bounds, m.particle_radius)});
   }
+  if (o.ceiling_jitter > 0)
+    models.push_back({kCeilingName,
+                      "the dataset's scene and solver, positions jittered by " +
+                          std::to_string(o.ceiling_jitter) + " particle diameters",
+                      nullptr});
   for (auto& model : models) {
+    if (!model.simulator) continue;
     model.simulator->to(gnn::parse_device(o.device));
     model.simulator->model().eval();
   }
@@ -182,24 +192,27 @@ nlohmann::json model_row(const ComparedModel& model, const gnn::RuntimeSettings&
                          const std::vector<TrajectoryScores>& scores,
                          const std::map<std::string, Figure>& figures, const CompareOptions& o,
                          const ComparedTrajectories& c, const gnn::DatasetMetadata& m) {
-  gnn::LearnedSimulator& sim = *model.simulator;
-  // Size of the model on the graph of the first trajectory's starting frame.
-  const gnn::Trajectory& t0 = c.trajectories.front();
-  const auto ids = gnn::active_ids(t0, o.from);
-  const gnn::GraphInput g =
-      sim.encode({gnn::position_history(t0, o.from, ids, m.frame_dt),
-                  t0.oil_fraction[o.from].index_select(0, ids), t0.material, t0.boundary});
-  const double flops = sim.model().flops(g.nodes(), g.edges());
-  int64_t params = 0;
-  for (const auto& p : sim.model().parameters()) params += p.numel();
   nlohmann::json row = {{"name", model.name},
-                        {"model", sim.model().name()},
+                        {"model", "sph"},
                         {"checkpoint", model.source},
-                        {"params", params},
-                        {"flops_per_particle", flops >= 0 && ids.size(0) > 0
-                                                   ? nlohmann::json(flops / double(ids.size(0)))
-                                                   : nlohmann::json(nullptr)},
+                        {"params", 0},
+                        {"flops_per_particle", nullptr},
                         {"threads", {{"libtorch", mix.threads}, {"blas", mix.blas_threads}}}};
+  if (model.simulator) {
+    gnn::LearnedSimulator& sim = *model.simulator;
+    // Size of the model on the graph of the first trajectory's starting frame.
+    const gnn::Trajectory& t0 = c.trajectories.front();
+    const auto ids = gnn::active_ids(t0, o.from);
+    const gnn::GraphInput g =
+        sim.encode({gnn::position_history(t0, o.from, ids, m.frame_dt),
+                    t0.oil_fraction[o.from].index_select(0, ids), t0.material, t0.boundary});
+    const double flops = sim.model().flops(g.nodes(), g.edges());
+    int64_t params = 0;
+    for (const auto& p : sim.model().parameters()) params += p.numel();
+    row["model"] = sim.model().name();
+    row["params"] = params;
+    if (flops >= 0 && ids.size(0) > 0) row["flops_per_particle"] = flops / double(ids.size(0));
+  }
   nlohmann::json spreads = nlohmann::json::object();
   for (const char* key : kFigureOrder) {
     const auto found = figures.find(key);
@@ -329,8 +342,11 @@ void write_comparison_picture(const fs::path& file, const ComparedTrajectories& 
 }  // namespace
 
 void run_compare(const CompareOptions& o) {
-  if (o.checkpoints.empty() && !o.constant_velocity)
-    throw common::InputError("compare: give --checkpoints, --constant-velocity or both");
+  if (o.checkpoints.empty() && !o.constant_velocity && !(o.ceiling_jitter > 0))
+    throw common::InputError("compare: give --checkpoints, --constant-velocity or --ceiling");
+  if (o.ceiling_jitter > 0 && o.replay_recorded_sources)
+    throw common::InputError(
+        "compare: --ceiling runs the scene's own sources; it has no --replay-recorded-sources");
   const Sources rollout_sources = sources_of(o.replay_recorded_sources);
   common::OutputFolderPolicy policy;
   policy.markers = {"comparison.json", "comparison.md"};  // teacher_student.md: optional
@@ -354,23 +370,31 @@ void run_compare(const CompareOptions& o) {
   std::vector<gnn::RolloutResult> pictured;  // each model's rollout of the first trajectory
   long done = 0;
   for (auto& model : models) {
-    gnn::LearnedSimulator& sim = *model.simulator;
     const gnn::RuntimeSettings mix =
-        o.blas_threads > 0
-            ? gnn::RuntimeSettings{o.threads, o.blas_threads}
-            : gnn::inference_runtime(o.threads, sim.model().infers_on_one_blas_thread());
+        o.blas_threads > 0 || !model.simulator
+            ? gnn::RuntimeSettings{o.threads, std::max(o.blas_threads, 1)}
+            : gnn::inference_runtime(o.threads,
+                                     model.simulator->model().infers_on_one_blas_thread());
     gnn::configure_runtime(mix);
     std::vector<TrajectoryScores> scores;
     for (size_t k = 0; k < c.trajectories.size(); ++k) {
       gnn::RolloutResult kept;
-      scores.push_back(score_rollout(
-          sim, c.trajectories[k], m, c.scenes[k].get(), c.recorded[k], o.from, c.frames[k],
-          rollout_sources, o.relax, k == 0 ? &kept : nullptr, [&](int64_t frame) {
-            common::throw_if_stopped(o.stop, [&] {
-              return "at frame " + std::to_string(frame) + " of " + model.name + " on " +
-                     c.trajectories[k].source + "; nothing written";
-            });
-          }));
+      const auto on_frame = [&](int64_t frame) {
+        common::throw_if_stopped(o.stop, [&] {
+          return "at frame " + std::to_string(frame) + " of " + model.name + " on " +
+                 c.trajectories[k].source + "; nothing written";
+        });
+      };
+      if (model.simulator) {
+        scores.push_back(score_rollout(*model.simulator, c.trajectories[k], m, c.scenes[k].get(),
+                                       c.recorded[k], o.from, c.frames[k], rollout_sources, o.relax,
+                                       k == 0 ? &kept : nullptr, on_frame));
+      } else {
+        kept = gnn::solver_rollout(c.trajectories[k], o.from, c.frames[k], m.frame_dt,
+                                   o.ceiling_jitter * 2 * m.particle_radius, k + 1, on_frame);
+        scores.push_back(score_frames(kept, c.trajectories[k], m, c.scenes[k].get(), c.recorded[k],
+                                      o.from, c.frames[k]));
+      }
       if (k == 0) pictured.push_back(std::move(kept));
       if (progress) progress->update(++done, model.name + " " + c.trajectories[k].source);
     }

@@ -82,7 +82,7 @@ TrajectoryScores score_trajectory(const LoadedData& d, const gnn::Trajectory& t,
       });
   row = {{"source", t.source},
          {"frames", frames},
-         {"one_step_mse", s.one_step_mse},
+         {"one_step_mse", optional_json(s.one_step_mse)},
          {"rollout_mse_all", mean(s.mse)},
          {"rollout_mse_last", s.mse.back()},
          {"oil_iou_mean", mean(s.iou)},
@@ -111,7 +111,7 @@ nlohmann::json eval_result(const LoadedData& d, const EvalOptions& o,
                            const nlohmann::json& per_trajectory) {
   std::vector<double> one_step, wall, sph;
   for (const auto& s : scores) {
-    one_step.push_back(s.one_step_mse);
+    one_step.push_back(s.one_step_mse.value_or(0.0));
     wall.push_back(s.wall_s_per_frame);
     if (s.sph_seconds_per_frame > 0) sph.push_back(s.sph_seconds_per_frame);
   }

@@ -69,15 +69,24 @@ TrajectoryScores score_rollout(gnn::LearnedSimulator& sim, const gnn::Trajectory
                                const FrameMeasures& recorded, int64_t from, int64_t frames,
                                Sources sources, int relax_iterations, gnn::RolloutResult* kept,
                                const std::function<void(int64_t)>& on_frame) {
-  TrajectoryScores s;
   std::vector<int64_t> one_step_frames;
   const int64_t first = gnn::kWindow - 1, last = t.frames() - 2;
   const int64_t stride = std::max<int64_t>(1, (last - first + 1) / 20);
   for (int64_t f = first; f <= last; f += stride) one_step_frames.push_back(f);
-  s.one_step_mse = gnn::one_step_position_mse(sim, t, one_step_frames, m.frame_dt);
+  const double one_step_mse = gnn::one_step_position_mse(sim, t, one_step_frames, m.frame_dt);
 
   auto r = roll_out(sim, t, from, frames, m.frame_dt, sources, on_frame,
                     relaxation_hook(scene, relax_iterations));
+  TrajectoryScores s = score_frames(r, t, m, scene, recorded, from, frames);
+  s.one_step_mse = one_step_mse;
+  if (kept) *kept = std::move(r);
+  return s;
+}
+
+TrajectoryScores score_frames(gnn::RolloutResult& r, const gnn::Trajectory& t,
+                              const gnn::DatasetMetadata& m, gnn::SpillScene* scene,
+                              const FrameMeasures& recorded, int64_t from, int64_t frames) {
+  TrajectoryScores s;
   auto truth = t.position.slice(0, from, from + frames + 1);
   auto truth_active = t.active.slice(0, from, from + frames + 1);
   auto truth_fraction = t.oil_fraction.slice(0, from, from + frames + 1);
@@ -112,7 +121,6 @@ TrajectoryScores score_rollout(gnn::LearnedSimulator& sim, const gnn::Trajectory
       std::accumulate(r.frame_seconds.begin(), r.frame_seconds.end(), 0.0) / double(frames);
   s.sph_seconds_per_frame = t.sph_seconds_per_frame;
   s.skipped_inflow_layers = r.skipped_inflow_layers;
-  if (kept) *kept = std::move(r);
   return s;
 }
 

@@ -35,7 +35,7 @@ FrameMeasures recorded_measures(gnn::SpillScene* scene, const gnn::Trajectory& t
                                 int64_t frames);
 
 struct TrajectoryScores {
-  double one_step_mse = 0;
+  std::optional<double> one_step_mse;           // none for the ceiling (no model to take one step)
   std::vector<double> mse, mmd, ke_error, iou;  // per rollout frame 1..F
   FrameMeasures recorded, predicted;            // spill and density measures of each side
   double rollout_seconds = 0;                   // simulated seconds the rollout spans
@@ -71,6 +71,12 @@ TrajectoryScores score_rollout(gnn::LearnedSimulator& simulator, const gnn::Traj
                                Sources sources, int relax_iterations = 0,
                                gnn::RolloutResult* kept = nullptr,
                                const std::function<void(int64_t)>& on_frame = {});
+
+// Scores a rollout `r` of frames from+1 .. from+frames of `t` as score_rollout does (its
+// one_step_mse left empty).
+TrajectoryScores score_frames(gnn::RolloutResult& r, const gnn::Trajectory& t,
+                              const gnn::DatasetMetadata& m, gnn::SpillScene* scene,
+                              const FrameMeasures& recorded, int64_t from, int64_t frames);
 
 // Rolls out as `sources` says (arguments as gnn::rollout's).
 gnn::RolloutResult roll_out(gnn::LearnedSimulator& simulator, const gnn::Trajectory& t,

@@ -127,14 +127,9 @@ sph::RecordedFrame recorded_frame(const Trajectory& t, int64_t frame) {
 
 }  // namespace
 
-RolloutResult standalone_rollout(LearnedSimulator& model, const Trajectory& t, int64_t first_frame,
-                                 int64_t frames, double frame_dt,
-                                 const std::function<void(int64_t)>& on_frame,
-                                 const FrameCorrection& correct) {
-  if (first_frame < 0 || frames < 1 || first_frame + frames >= t.frames())
-    throw std::invalid_argument(t.source + ": cannot roll out " + std::to_string(frames) +
-                                " frames from frame " + std::to_string(first_frame) + " of " +
-                                std::to_string(t.frames()));
+std::unique_ptr<sph::Simulation> simulation_at_frame(
+    const Trajectory& t, int64_t frame, double frame_dt,
+    const std::function<void(sph::RecordedFrame&)>& adjust) {
   if (!t.scene.is_object() || t.scene.empty())
     throw DatasetError(
         t.source +
@@ -148,12 +143,27 @@ RolloutResult standalone_rollout(LearnedSimulator& model, const Trajectory& t, i
                        ": no scene to roll out standalone from (its sources and sinks); "
                        "--replay-recorded-sources replays the recording's");
   }
-  sph::Simulation sim(scene);
-  if (int64_t(sim.fluid().size()) != t.particles())
+  auto sim = std::make_unique<sph::Simulation>(scene);
+  if (int64_t(sim->fluid().size()) != t.particles())
     throw DatasetError(t.source + ": the dataset's scene makes " +
-                       std::to_string(sim.fluid().size()) + " particles, the trajectory has " +
+                       std::to_string(sim->fluid().size()) + " particles, the trajectory has " +
                        std::to_string(t.particles()));
-  sim.restore_recorded_frame(recorded_frame(t, first_frame), frame_dt);
+  sph::RecordedFrame recorded = recorded_frame(t, frame);
+  if (adjust) adjust(recorded);
+  sim->restore_recorded_frame(recorded, frame_dt);
+  return sim;
+}
+
+RolloutResult standalone_rollout(LearnedSimulator& model, const Trajectory& t, int64_t first_frame,
+                                 int64_t frames, double frame_dt,
+                                 const std::function<void(int64_t)>& on_frame,
+                                 const FrameCorrection& correct) {
+  if (first_frame < 0 || frames < 1 || first_frame + frames >= t.frames())
+    throw std::invalid_argument(t.source + ": cannot roll out " + std::to_string(frames) +
+                                " frames from frame " + std::to_string(first_frame) + " of " +
+                                std::to_string(t.frames()));
+  auto simulation = simulation_at_frame(t, first_frame, frame_dt);
+  sph::Simulation& sim = *simulation;
   SceneRollout stepper(model, sim, t.material, frame_dt, t.source);
   const auto ids = active_ids(t, first_frame);
   stepper.set_history(ids, position_history(t, first_frame, ids, frame_dt));

@@ -14,6 +14,7 @@
 #include <torch/torch.h>
 
 #include <functional>
+#include <memory>
 #include <string>
 
 #include "gnn/data/dataset.h"
@@ -58,6 +59,14 @@ struct IdentityFrame {
   torch::Tensor position, active, oil_fraction;
 };
 IdentityFrame identity_frame(const sph::Simulation& simulation);
+
+// The trajectory's scene (t.scene) continued from its recorded frame `frame`
+// (Simulation::restore_recorded_frame), the frame first passed through `adjust` when given.
+// Throws DatasetError when the trajectory carries no scene or its scene does not have the
+// trajectory's particles.
+std::unique_ptr<sph::Simulation> simulation_at_frame(
+    const Trajectory& t, int64_t frame, double frame_dt,
+    const std::function<void(sph::RecordedFrame&)>& adjust = {});
 
 // Rolls `model` out from recorded frame `first_frame` of `t` for `frames` frames, standalone:
 // the state and history of that frame are the recording's, everything after comes from the model
