@@ -71,7 +71,7 @@ CLI::App* add_compare_command(CLI::App& app, CompareOptions& compare) {
                 "add the ceiling: the dataset's own simulator run again from the same frame with "
                 "every position jittered by up to this many particle diameters (e.g. 0.001); "
                 "standalone only")
-      ->check(CLI::Range(0.0, 1.0));
+      ->check(common::positive());
   c->add_option("--data", compare.data_dir, "dataset folder (metadata.json and <split>.h5)")
       ->required()
       ->check(CLI::ExistingDirectory);
