@@ -13,10 +13,6 @@ namespace common {
 
 namespace {
 
-struct Colour {
-  float r, g, b;
-};
-
 // Axes of the picture: horizontal, vertical, and depth (toward the viewer is larger).
 void view_axes(ViewAxis axis, int& h, int& v, int& d) {
   h = 0;
@@ -84,12 +80,8 @@ FrameRenderer::FrameRenderer(const std::vector<Point>& boundary, const Bounds& b
   for (ViewAxis axis : {ViewAxis::kSide, ViewAxis::kTop, ViewAxis::kRiver}) {
     RgbImage& img = background_[int(axis)];
     img = blank(axis);
-    draw_points(img, bounds_, particle_radius_, axis, boundary, [axis](size_t, float n) {
-      // Terrain seen from above in earth tones, lighter where higher; walls grey.
-      if (axis == ViewAxis::kRiver) return Colour{120 + 100 * n, 105 + 85 * n, 70 + 60 * n};
-      const float g = 150 + 60 * n;
-      return Colour{g, g, g};
-    });
+    draw_points(img, bounds_, particle_radius_, axis, boundary,
+                [axis](size_t, float n) { return boundary_colour(axis, n); });
   }
 }
 
@@ -104,14 +96,54 @@ RgbImage FrameRenderer::blank(ViewAxis axis) const {
   return img;
 }
 
+Colour fluid_colour(float oil_fraction, float n) {
+  const float f = std::clamp(oil_fraction, 0.f, 1.f);
+  const Colour water{20 + 60 * n, 70 + 90 * n, 150 + 100 * n};
+  const Colour oil{20 + 50 * n, 18 + 40 * n, 15 + 30 * n};
+  return {water.r + f * (oil.r - water.r), water.g + f * (oil.g - water.g),
+          water.b + f * (oil.b - water.b)};
+}
+
+Colour boundary_colour(ViewAxis axis, float n) {
+  // Terrain seen from above in earth tones, lighter where higher; walls grey.
+  if (axis == ViewAxis::kRiver) return Colour{120 + 100 * n, 105 + 85 * n, 70 + 60 * n};
+  const float g = 150 + 60 * n;
+  return Colour{g, g, g};
+}
+
 RgbImage FrameRenderer::render(const std::vector<Point>& fluid,
                                const std::vector<std::uint8_t>& oil, ViewAxis axis) const {
+  std::vector<float> fraction(oil.size());
+  for (size_t i = 0; i < oil.size(); ++i) fraction[i] = oil[i] ? 1.f : 0.f;
+  return render(fluid, fraction, axis);
+}
+
+RgbImage FrameRenderer::render(const std::vector<Point>& fluid,
+                               const std::vector<float>& oil_fraction, ViewAxis axis) const {
   RgbImage img = background_[int(axis)];
-  draw_points(img, bounds_, particle_radius_, axis, fluid, [&](size_t i, float n) {
-    if (oil[i]) return Colour{20 + 50 * n, 18 + 40 * n, 15 + 30 * n};
-    return Colour{20 + 60 * n, 70 + 90 * n, 150 + 100 * n};
-  });
+  draw_points(img, bounds_, particle_radius_, axis, fluid,
+              [&](size_t i, float n) { return fluid_colour(oil_fraction[i], n); });
   return img;
+}
+
+float FrameRenderer::pixels_per_metre(ViewAxis axis) const {
+  int ah, av, ad;
+  view_axes(axis, ah, av, ad);
+  return float(width_) / float(bounds_.max[ah] - bounds_.min[ah]);
+}
+
+Eigen::Vector2f FrameRenderer::to_pixel(const Point& p, ViewAxis axis) const {
+  // The same projection as draw_points.
+  int ah, av, ad;
+  view_axes(axis, ah, av, ad);
+  const float scale = pixels_per_metre(axis);
+  const float x = (p[ah] - bounds_.min[ah]) * scale;
+  const float along = (p[av] - bounds_.min[av]) * scale;
+  if (axis == ViewAxis::kRiver) return {x, along};
+  const int height =
+      std::max(1, int(std::lround((bounds_.max[av] - bounds_.min[av]) * float(width_) /
+                                  (bounds_.max[ah] - bounds_.min[ah]))));
+  return {x, float(height) - along};
 }
 
 void write_png(const std::string& file, const RgbImage& image) {

@@ -8,7 +8,9 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "common/axis_ticks.h"
 #include "common/checked_file.h"
+#include "common/html_report.h"
 
 namespace common {
 
@@ -32,27 +34,30 @@ void draw_panel(std::ostringstream& s, const PlotPanel& panel, double offset) {
       y1 = std::max(y1, ty(ser.y[k]));
     }
   if (x0 > x1) x0 = 0, x1 = 1, y0 = 0, y1 = 1;
-  if (x1 == x0) x1 = x0 + 1;
-  if (y1 == y0) y1 = y0 + 1;
+  // Round ticks, the axes widened to whole steps around the data.
+  const AxisTicks xt = linear_ticks(x0, x1);
+  const AxisTicks yt = log_y ? log_ticks(y0, y1) : linear_ticks(y0, y1);
+  x0 = xt.lo, x1 = xt.hi, y0 = yt.lo, y1 = yt.hi;
   const double top = offset + kTop, bottom = offset + kPanelHeight - kBottom;
   auto px = [&](double x) { return kLeft + (x - x0) / (x1 - x0) * (kWidth - kLeft - kRight); };
-  auto py = [&](double y) { return bottom - (ty(y) - y0) / (y1 - y0) * (bottom - top); };
+  auto py_axis = [&](double v) { return bottom - (v - y0) / (y1 - y0) * (bottom - top); };
+  auto py = [&](double y) { return py_axis(ty(y)); };
   s << "<rect x=\"" << kLeft << "\" y=\"" << top << "\" width=\"" << kWidth - kLeft - kRight
     << "\" height=\"" << bottom - top << "\" fill=\"none\" stroke=\"#444\"/>\n";
-  for (int k = 0; k <= 4; ++k) {
-    const double fx = x0 + (x1 - x0) * k / 4, fy = y0 + (y1 - y0) * k / 4;
-    const double yv = log_y ? std::pow(10.0, fy) : fy;
-    s << "<text x=\"" << px(fx) << "\" y=\"" << bottom + 16 << "\" text-anchor=\"middle\">" << fx
-      << "</text>\n";
-    s << "<text x=\"" << kLeft - 6 << "\" y=\"" << py(yv) + 4 << "\" text-anchor=\"end\">" << yv
-      << "</text>\n<line x1=\"" << kLeft << "\" x2=\"" << kWidth - kRight << "\" y1=\"" << py(yv)
-      << "\" y2=\"" << py(yv) << "\" stroke=\"#ddd\"/>\n";
+  for (size_t k = 0; k < xt.values.size(); ++k)
+    s << "<text x=\"" << px(xt.values[k]) << "\" y=\"" << bottom + 16
+      << "\" text-anchor=\"middle\">" << xt.labels[k] << "</text>\n";
+  for (size_t k = 0; k < yt.values.size(); ++k) {
+    const double y = py_axis(yt.values[k]);
+    s << "<text x=\"" << kLeft - 6 << "\" y=\"" << y + 4 << "\" text-anchor=\"end\">"
+      << yt.labels[k] << "</text>\n<line x1=\"" << kLeft << "\" x2=\"" << kWidth - kRight
+      << "\" y1=\"" << y << "\" y2=\"" << y << "\" stroke=\"#ddd\"/>\n";
   }
   const double middle = (top + bottom) / 2;
   s << "<text x=\"" << (kLeft + kWidth - kRight) / 2 << "\" y=\"" << bottom + 36
-    << "\" text-anchor=\"middle\">" << panel.x_label << "</text>\n<text x=\"18\" y=\"" << middle
-    << "\" text-anchor=\"middle\" transform=\"rotate(-90 18 " << middle << ")\">" << panel.y_label
-    << (log_y ? " (log)" : "") << "</text>\n";
+    << "\" text-anchor=\"middle\">" << html_escape(panel.x_label) << "</text>\n<text x=\"18\" y=\""
+    << middle << "\" text-anchor=\"middle\" transform=\"rotate(-90 18 " << middle << ")\">"
+    << html_escape(panel.y_label) << (log_y ? " (log)" : "") << "</text>\n";
   const char* colours[] = {"#1f77b4", "#d62728", "#2ca02c", "#ff7f0e", "#9467bd", "#333333"};
   for (size_t k = 0; k < panel.series.size(); ++k) {
     const auto& ser = panel.series[k];
@@ -62,24 +67,29 @@ void draw_panel(std::ostringstream& s, const PlotPanel& panel, double offset) {
       if (std::isfinite(ser.y[i]) && !(log_y && ser.y[i] <= 0))
         s << px(ser.x[i]) << "," << py(ser.y[i]) << " ";
     s << "\"/>\n<text x=\"" << kWidth - kRight + 10 << "\" y=\"" << top + 16 + 18 * double(k)
-      << "\" fill=\"" << colours[k % 6] << "\">" << ser.name << "</text>\n";
+      << "\" fill=\"" << colours[k % 6] << "\">" << html_escape(ser.name) << "</text>\n";
   }
 }
 
 }  // namespace
 
-void write_panels(const std::string& path, const std::string& title,
-                  const std::vector<PlotPanel>& panels) {
+std::string panels_svg(const std::string& title, const std::vector<PlotPanel>& panels) {
   const double height = kTitleHeight + kPanelHeight * double(std::max<size_t>(1, panels.size()));
   std::ostringstream s;
   s << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" << kWidth << "\" height=\"" << height
     << "\" font-family=\"sans-serif\" font-size=\"12\">\n<rect width=\"100%\" height=\"100%\" "
        "fill=\"white\"/>\n<text x=\""
-    << kWidth / 2 << "\" y=\"22\" text-anchor=\"middle\" font-size=\"15\">" << title << "</text>\n";
+    << kWidth / 2 << "\" y=\"22\" text-anchor=\"middle\" font-size=\"15\">" << html_escape(title)
+    << "</text>\n";
   for (size_t k = 0; k < panels.size(); ++k)
     draw_panel(s, panels[k], kTitleHeight + kPanelHeight * double(k));
   s << "</svg>\n";
-  write_file_atomically(path, s.str());
+  return s.str();
+}
+
+void write_panels(const std::string& path, const std::string& title,
+                  const std::vector<PlotPanel>& panels) {
+  write_file_atomically(path, panels_svg(title, panels));
 }
 
 void write_line_plot(const std::string& path, const std::string& title, const std::string& x_label,

@@ -19,7 +19,10 @@ struct PlotPanel {
   bool log_y = false;  // non-positive values are skipped on a log axis
 };
 
-// Panels stacked under one title, written atomically (a temporary file renamed into place).
+// Panels stacked under one title, as an SVG document's text.
+std::string panels_svg(const std::string& title, const std::vector<PlotPanel>& panels);
+
+// The same, written atomically (a temporary file renamed into place).
 void write_panels(const std::string& path, const std::string& title,
                   const std::vector<PlotPanel>& panels);
 

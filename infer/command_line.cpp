@@ -8,6 +8,8 @@ const char* const kReplayHelp =
     "diagnosis only: particles enter and leave on the recording's schedule with their recorded "
     "states, as a finished SPH run supplies them (default: standalone, the dataset's scene "
     "releases and retires them)";
+const char* const kVtkHelp =
+    "write VTK (ParaView) point files per frame in vtk/ with a fluid.pvd collection";
 
 void add_common(CLI::App* c, CommonOptions& o) {
   c->add_option("--checkpoint", o.checkpoint, "checkpoint (*.pt) written by spill-train")
@@ -47,6 +49,7 @@ CLI::App* add_rollout_command(CLI::App& app, RolloutOptions& rollout) {
       ->check(common::positive());
   r->add_option("--png-every", rollout.png_every, "draw every n-th frame")
       ->check(common::positive());
+  r->add_flag("--vtk", rollout.vtk, kVtkHelp);
   return r;
 }
 
@@ -117,6 +120,7 @@ CLI::App* add_predict_command(CLI::App& app, PredictOptions& o) {
   p->add_option("--end-time", o.end_time, "end of the forecast (s; default: the scene's)")
       ->check(common::positive());
   p->add_flag("--png", o.png, "write side-, top- and river-view pictures of every frame");
+  p->add_flag("--vtk", o.vtk, kVtkHelp);
   p->add_option("--relax", o.relax,
                 "after each learned frame, this many iterations of the simulator's "
                 "constant-density correction on the predicted positions (default 0: off; at "

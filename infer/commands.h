@@ -32,6 +32,7 @@ struct RolloutOptions {
   int from = 5;
   int frames = 0;  // 0 = to the end of the recording
   int png_every = 5;
+  bool vtk = false;  // the predicted frames as VTK (ParaView) point files in OUT/vtk/
 };
 
 struct EvalOptions {
@@ -72,6 +73,7 @@ struct PredictOptions {
   double end_time = -1;                // > 0: the scene's /end_time replaced
   std::string out_dir;
   bool png = false;
+  bool vtk = false;  // VTK (ParaView) point files of every frame in OUT/vtk/
   int relax = 0;
   int threads = 2;
   int blas_threads = 0;
@@ -81,12 +83,13 @@ struct PredictOptions {
 };
 
 // The run folder of `spill-sim run` (metadata.json naming the checkpoint, trajectory.h5,
-// stats.json, spill.json and spill.svg, png/ on request) from the model instead of the solver.
-// Returns stats.json's summary.
+// stats.json, spill.json and spill.svg, png/ and vtk/ on request) from the model instead of the
+// solver. Returns stats.json's summary.
 nlohmann::json run_predict(const PredictOptions& options);
 
 // Predicted trajectory in the data contract (OUT/rollout.h5, OUT/metadata.json), side-by-side
-// top views (OUT/frames/), and timing against the SPH (OUT/timing.json).
+// top views (OUT/frames/), timing against the SPH (OUT/timing.json), and on request VTK point
+// files of the predicted frames (OUT/vtk/).
 void run_rollout(const RolloutOptions& options);
 
 // Accuracy and speed over every trajectory of a split: OUT/eval.json and OUT/error_vs_horizon.svg.

@@ -16,6 +16,7 @@
 #include "gnn/runtime/runtime.h"
 #include "gnn/training/checkpoint.h"
 #include "infer/commands.h"
+#include "infer/compare_report.h"
 #include "infer/map_views.h"
 #include "infer/teacher_student_table.h"
 #include "infer/trajectory_scores.h"
@@ -427,6 +428,7 @@ void run_compare(const CompareOptions& o) {
   const std::string table6 = teacher_student_table(result);
   if (!table6.empty()) common::write_file_atomically((out / "teacher_student.md").string(), table6);
   write_comparison_picture(out / "comparison.png", c, m, o.from, pictured);
+  write_compare_report(out);
   output.commit();
   if (o.log)
     *o.log << models.size() << " models compared on " << c.trajectories.size()

@@ -19,6 +19,7 @@
 #include "sph/io/animation.h"
 #include "sph/io/run_metadata.h"
 #include "sph/io/run_recorder.h"
+#include "sph/io/run_report.h"
 #include "sph/scene/scene_loader.h"
 #include "sph/simulation/density_relaxation.h"
 #include "sph/simulation/frame_loop.h"
@@ -195,7 +196,9 @@ nlohmann::json run_predict(const PredictOptions& o) {
   common::write_file_atomically(
       staging / "metadata.json",
       predict_metadata(sim, scene, frames - first, o, checkpoint).dump(2) + "\n");
-  sph::RunRecorder recorder(sim, scene.config, {o.png, false}, staging);
+  // The learned frames leave density and pressure as they were: vtk/ has neither.
+  sph::RunRecorder recorder(sim, scene.config, {o.png, false, o.vtk, /*solver_state=*/false},
+                            staging);
   recorder.record(sim, first);
 
   common::ProgressReporter progress(o.log ? *o.log : std::cerr, o.terminal, frames,
@@ -231,6 +234,7 @@ nlohmann::json run_predict(const PredictOptions& o) {
     sph::encode_animation(staging, scene.config.terrain_grid ? "river" : "side", first,
                           1 / frame_dt, o.log);
   recorder.write_metrics();
+  sph::write_run_report(staging);
   if (o.log) progress.finish(std::to_string(frames - first) + " learned frames");
   output.commit();
   return summary;

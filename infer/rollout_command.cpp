@@ -14,6 +14,7 @@
 #include "infer/map_views.h"
 #include "infer/trajectory_scores.h"
 #include "sph/io/tensor_recorder.h"
+#include "sph/io/vtk_writer.h"
 
 namespace infer {
 namespace fs = std::filesystem;
@@ -33,14 +34,22 @@ int64_t rollout_frames(const gnn::Trajectory& t, const RolloutOptions& o) {
   return o.frames > 0 ? std::min<int64_t>(o.frames, available) : available;
 }
 
+// [F + 1, N, 3] m/s: the recorded velocity at the start, then each frame's displacement over
+// the frame interval.
+torch::Tensor rollout_velocity(const LoadedData& d, const gnn::Trajectory& t,
+                               const gnn::RolloutResult& r, const RolloutOptions& o,
+                               int64_t frames) {
+  auto velocity = (r.position.slice(0, 1) - r.position.slice(0, 0, frames)) / d.metadata.frame_dt;
+  return torch::cat({t.velocity[o.from].unsqueeze(0), velocity});
+}
+
 // rollout.h5 (the data contract's layout) and its metadata.json.
 void write_rollout_files(const fs::path& dir, const LoadedData& d, const gnn::Trajectory& t,
                          const gnn::RolloutResult& r, const RolloutOptions& o, int64_t frames) {
   sph::RecordedTrajectory rec;
   rec.time = t.time.slice(0, o.from, o.from + frames + 1).clone();
   rec.position = r.position;
-  auto velocity = (r.position.slice(0, 1) - r.position.slice(0, 0, frames)) / d.metadata.frame_dt;
-  rec.velocity = torch::cat({t.velocity[o.from].unsqueeze(0), velocity});
+  rec.velocity = rollout_velocity(d, t, r, o, frames);
   rec.active = r.active.to(torch::kUInt8);
   rec.volume_fraction = r.oil_fraction;
   rec.particle_type = t.particle_type.to(torch::kInt32);
@@ -83,6 +92,53 @@ void write_comparison_frames(const fs::path& dir, const LoadedData& d, const gnn
         image_grid({{renderer.render(t.position[o.from + k], t.active[o.from + k],
                                      t.oil_fraction[o.from + k]),
                      renderer.render(r.position[k], r.active[k], r.oil_fraction[k])}}));
+  }
+}
+
+// [N, 3] rows as vectors.
+std::vector<sph::Vec3> vectors_of(const torch::Tensor& rows) {
+  const torch::Tensor x = rows.to(torch::kFloat64).contiguous();
+  TORCH_CHECK(x.dim() == 2 && x.size(1) == 3, "vectors_of: expected [N, 3], got ", x.sizes());
+  const auto a = x.accessor<double, 2>();
+  std::vector<sph::Vec3> out(size_t(x.size(0)));
+  for (int64_t i = 0; i < x.size(0); ++i)
+    out[size_t(i)] = sph::Vec3(sph::Real(a[i][0]), sph::Real(a[i][1]), sph::Real(a[i][2]));
+  return out;
+}
+
+// vtk/: boundary.vtp, a fluid_NNNNN.vtp per frame (numbered as in the recording, every particle
+// in identity order with its predicted position, velocity and oil fraction, its type by the one
+// oil rule, and whether it is active) and fluid.pvd with the recorded times. A learned frame has
+// no density or pressure: those arrays are left out.
+void write_vtk_frames(const fs::path& dir, const LoadedData& d, const gnn::Trajectory& t,
+                      const gnn::RolloutResult& r, const RolloutOptions& o, int64_t frames) {
+  fs::create_directories(dir);
+  sph::VtkPoints boundary;
+  boundary.position = vectors_of(t.boundary);
+  boundary.type.assign(boundary.position.size(), std::int32_t(sph::ParticleType::kBoundary));
+  sph::write_vtp(dir / "boundary.vtp", boundary);
+
+  const torch::Tensor velocity = rollout_velocity(d, t, r, o, frames);
+  const torch::Tensor oil = r.oil_fraction.to(torch::kFloat64).contiguous();  // [F + 1, N]
+  const torch::Tensor active = r.active.to(torch::kUInt8).contiguous();       // [F + 1, N]
+  const torch::Tensor time = t.time.to(torch::kFloat64).contiguous();         // [T]
+  sph::VtkSeries series(dir, "fluid.pvd");
+  for (int64_t k = 0; k <= frames; ++k) {
+    sph::VtkPoints p;
+    p.position = vectors_of(r.position[k]);
+    p.velocity = vectors_of(velocity[k]);
+    const torch::Tensor oil_k = oil[k], active_k = active[k];  // [N]
+    const auto fraction = oil_k.accessor<double, 1>();
+    const auto on = active_k.accessor<std::uint8_t, 1>();
+    for (int64_t i = 0; i < fraction.size(0); ++i) {
+      p.oil_fraction.push_back(sph::Real(fraction[i]));
+      const bool oil_now = sph::is_oil(sph::Real(fraction[i]));
+      p.type.push_back(std::int32_t(oil_now ? sph::ParticleType::kOil : sph::ParticleType::kWater));
+      p.active.push_back(on[i]);
+    }
+    std::ostringstream name;
+    name << "fluid_" << std::setw(5) << std::setfill('0') << (o.from + k) << ".vtp";
+    series.add_frame(name.str(), time[o.from + k].item<double>(), p);
   }
 }
 
@@ -134,6 +190,7 @@ void run_rollout(const RolloutOptions& o) {
   const fs::path tmp = output.staging();
   write_rollout_files(tmp, d, t, r, o, frames);
   write_comparison_frames(tmp / "frames", d, t, r, o, frames);
+  if (o.vtk) write_vtk_frames(tmp / "vtk", d, t, r, o, frames);
   const nlohmann::json timing = rollout_timing(t, r, o, frames);
   common::write_file_atomically(tmp / "timing.json", timing.dump(2) + "\n");
   output.commit();

@@ -3,6 +3,7 @@
 # it in build/ (Release). Idempotent: a second run only rebuilds what changed.
 #   bash scripts/setup.sh            # packages + build
 #   SPILL_SKIP_APT=1 bash scripts/setup.sh   # build only
+#   SPILL_TEST_PACKAGES=1 bash scripts/setup.sh   # also what the tests need (chromium)
 #   SPILL_CMAKE_ARGS=-DSPILL_WITH_TORCH=OFF bash scripts/setup.sh   # simulator only, no LibTorch
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -10,7 +11,12 @@ cd "$(dirname "$0")/.."
 packages=(
   build-essential cmake pkg-config
   libeigen3-dev libhdf5-dev nlohmann-json3-dev libgtest-dev libcli11-dev libpng-dev
+  ffmpeg  # a run's pictures become its video (river.mp4)
 )
+# The test suite opens report.html in headless Chromium (scripts/test.sh sets this).
+if [ "${SPILL_TEST_PACKAGES:-0}" = "1" ]; then
+  packages+=(chromium)
+fi
 # The learning stack; a simulator-only build (SPILL_CMAKE_ARGS=-DSPILL_WITH_TORCH=OFF) needs none
 # of it, LibTorch's 2 GB included.
 if [[ "${SPILL_CMAKE_ARGS:-}" != *SPILL_WITH_TORCH=OFF* ]]; then

@@ -4,6 +4,6 @@
 #   bash scripts/test.sh -L unit         # extra arguments go to ctest
 set -euo pipefail
 cd "$(dirname "$0")/.."
-bash scripts/setup.sh
+SPILL_TEST_PACKAGES=1 bash scripts/setup.sh
 cd build
 ctest --output-on-failure -j "$(nproc 2>/dev/null || echo 2)" "$@"

@@ -19,6 +19,7 @@
 #include "sph/core/config.h"
 #include "sph/core/simulation_error.h"
 #include "sph/io/run_recorder.h"
+#include "sph/io/run_report.h"
 #include "sph/io/trajectory_writer.h"
 
 namespace sph {
@@ -147,7 +148,7 @@ nlohmann::json run_scene(const LoadedScene& scene, const RunOptions& options) {
   const int first = first_recorded_frame(sim, scene, options);
   const int save_frame = state_frame(scene, options, first);
   write_json(staging / "metadata.json", run_metadata(sim, scene, frames - first));
-  RunRecorder recorder(sim, scene.config, {options.png, options.ply}, staging);
+  RunRecorder recorder(sim, scene.config, {options.png, options.ply, options.vtk}, staging);
 
   nlohmann::json frame_list = nlohmann::json::array();
   frame_list.push_back(frame_json(sim, FrameStats{}));
@@ -175,6 +176,7 @@ nlohmann::json run_scene(const LoadedScene& scene, const RunOptions& options) {
     encode_animation(staging, scene.config.terrain_grid ? "river" : "side", first, 1 / frame_dt,
                      options.log);
   recorder.write_metrics();
+  write_run_report(staging);
   if (options.log) progress.finish(std::to_string(sim.steps()) + " steps");
 
   output.commit();

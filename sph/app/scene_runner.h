@@ -1,6 +1,6 @@
 #pragma once
 // Runs a scene to its end time and writes the run folder of `spill-sim run`:
-//   trajectory.h5 (data contract), metadata.json, stats.json, ply/ and png/ (optional).
+//   trajectory.h5 (data contract), metadata.json, stats.json, ply/, vtk/ and png/ (optional).
 // Everything is written into a hidden staging folder beside the target and renamed into place
 // only when the run succeeds, so a failed or interrupted run leaves no half-written output.
 
@@ -24,6 +24,7 @@ struct RunOptions {
   std::filesystem::path out_dir;
   bool force = false;  // replace an existing out_dir
   bool ply = false;    // write PLY frames
+  bool vtk = false;    // write VTK (ParaView) frames and their .pvd collection in vtk/
   bool png = false;    // write side- and top-view PNG pictures of every frame
   int threads = 1;     // recorded in stats.json (the caller sets OpenMP's thread count)
   const std::atomic<bool>* stop = nullptr;  // set from a signal handler to interrupt

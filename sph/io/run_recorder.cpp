@@ -3,7 +3,9 @@
 #include <cstdio>
 
 #include "common/checked_file.h"
+#include "common/picture_annotation.h"
 #include "sph/io/ply_writer.h"
+#include "sph/river/leak.h"
 #include "sph/simulation/spill_measurement.h"
 
 namespace sph {
@@ -25,6 +27,27 @@ PlyPoints fluid_points(const Simulation& sim) {
   return p;
 }
 
+// Every particle slot in identity order, so a particle keeps its point index across frames;
+// `active` (by identity) flags the inactive ones. Density and pressure only from a solver.
+VtkPoints vtk_fluid_points(const Simulation& sim, const std::vector<std::uint8_t>& active,
+                           bool solver_state) {
+  const FluidParticles& f = sim.fluid();
+  VtkPoints p;
+  p.position = sim.in_id_order(f.position);
+  p.velocity = sim.in_id_order(f.velocity);
+  if (solver_state) {
+    std::vector<Real> density(f.size());  // kg/m^3: f.density is rho / rho0
+    for (Index i = 0; i < f.size(); ++i) density[i] = f.rest_density[i] * f.density[i];
+    p.density = sim.in_id_order(density);
+    p.pressure = sim.in_id_order(f.pressure);
+  }
+  p.oil_fraction = sim.in_id_order(f.oil_fraction);
+  p.type.resize(f.size());
+  for (Index i = 0; i < f.size(); ++i) p.type[f.id[i]] = std::int32_t(f.type[i]);
+  p.active = active;
+  return p;
+}
+
 std::string frame_file(const char* prefix, int frame, const char* extension) {
   char buf[64];
   std::snprintf(buf, sizeof buf, "%s_%05d.%s", prefix, frame, extension);
@@ -37,22 +60,40 @@ std::vector<common::Point> picture_points(const std::vector<Vec3>& p, Index coun
   return out;
 }
 
+// What the pictures mark: the leaks where their oil meets the water, and the watch points.
+common::PictureAnnotation picture_annotation(const SceneConfig& scene) {
+  common::PictureAnnotation a;
+  a.river = scene.terrain_grid != nullptr;
+  if (!a.river) return a;
+  const float water_level = float(scene.terrain->water_level);
+  for (size_t i = 0; i < scene.leaks.size(); ++i) {
+    const EmitterConfig e = leak_emitter(scene.leaks[i], *scene.terrain_grid,
+                                         scene.terrain->water_level, scene.name, i);
+    a.leaks.push_back(
+        {common::Point(float(e.centre.x()), float(e.centre.y()), water_level), "leak", 0});
+  }
+  for (const auto& w : scene.watch_points)
+    a.watch_points.push_back(
+        {common::Point(float(w.x), float(w.y), water_level), w.name, float(w.radius)});
+  return a;
+}
+
 void write_pictures(const Simulation& sim, const common::FrameRenderer& renderer,
-                    const fs::path& dir, int frame) {
+                    common::PictureAnnotation annotation, const fs::path& dir, int frame) {
   using common::ViewAxis;
-  using common::write_png;
   const FluidParticles& f = sim.fluid();
   const std::vector<common::Point> fluid = picture_points(f.position, f.active_count());
-  std::vector<std::uint8_t> types;
-  // Oil is where the oil fraction is at least 1/2 (MTDF-SPH moves oil between particles).
-  for (Index i = 0; i < f.active_count(); ++i) types.push_back(is_oil(f.oil_fraction[i]));
-  write_png((dir / frame_file("side", frame, "png")).string(),
-            renderer.render(fluid, types, ViewAxis::kSide));
-  write_png((dir / frame_file("top", frame, "png")).string(),
-            renderer.render(fluid, types, ViewAxis::kTop));
-  if (sim.scene().terrain_grid)
-    write_png((dir / frame_file("river", frame, "png")).string(),
-              renderer.render(fluid, types, ViewAxis::kRiver));
+  // Coloured by the oil fraction (MTDF-SPH moves oil between particles; 1/2 and more is oil).
+  const std::vector<float> oil(f.oil_fraction.begin(), f.oil_fraction.begin() + f.active_count());
+  annotation.time_s = sim.time();
+  auto write = [&](const char* prefix, ViewAxis axis) {
+    common::write_png(
+        (dir / frame_file(prefix, frame, "png")).string(),
+        common::annotate(renderer.render(fluid, oil, axis), renderer, axis, annotation));
+  };
+  write("side", ViewAxis::kSide);
+  write("top", ViewAxis::kTop);
+  if (sim.scene().terrain_grid) write("river", ViewAxis::kRiver);
 }
 
 std::vector<std::int32_t> particle_types(const Simulation& sim) {
@@ -82,6 +123,7 @@ RunRecorder::RunRecorder(const Simulation& sim, const SceneConfig& scene, Record
         picture_points(sim.boundary().position, Index(sim.boundary().size())),
         common::Bounds{sim.domain().min.cast<float>(), sim.domain().max.cast<float>()},
         float(scene_.particle_radius));
+    annotation_ = picture_annotation(scene_);
   }
   bool has_oil = false;
   for (const auto& b : scene_.fluid_blocks) has_oil = has_oil || b.oil_fraction() > 0;
@@ -98,6 +140,14 @@ RunRecorder::RunRecorder(const Simulation& sim, const SceneConfig& scene, Record
     b.type.assign(b.position.size(), std::int32_t(ParticleType::kBoundary));
     write_ply((folder / "ply" / "boundary.ply").string(), b);
   }
+  if (options.vtk) {
+    fs::create_directories(folder / "vtk");
+    VtkPoints b;
+    b.position = sim.boundary().position;
+    b.type.assign(b.position.size(), std::int32_t(ParticleType::kBoundary));
+    write_vtp(folder / "vtk" / "boundary.vtp", b);
+    vtk_ = std::make_unique<VtkSeries>(folder / "vtk", "fluid.pvd");
+  }
 }
 
 void RunRecorder::record(const Simulation& sim, int frame) {
@@ -110,7 +160,10 @@ void RunRecorder::record(const Simulation& sim, int frame) {
                  sim.in_id_order(f.oil_fraction));
   if (options_.ply)
     write_ply((folder_ / "ply" / frame_file("fluid", frame, "ply")).string(), fluid_points(sim));
-  if (renderer_) write_pictures(sim, *renderer_, folder_ / "png", frame);
+  if (vtk_)
+    vtk_->add_frame(frame_file("fluid", frame, "vtp"), sim.time(),
+                    vtk_fluid_points(sim, active, options_.solver_state));
+  if (renderer_) write_pictures(sim, *renderer_, annotation_, folder_ / "png", frame);
 }
 
 void RunRecorder::write_metrics() const {

@@ -184,6 +184,18 @@ TEST(Cli, CompareWritesARowPerModelAndTheFloor) {
   EXPECT_EQ(result["trajectories"].size(), 1u);
   EXPECT_TRUE(fs::exists(dir / "out/comparison.md"));
   EXPECT_TRUE(fs::exists(dir / "out/comparison.png"));
+  {
+    // report.html: the models side by side, one row each, in one file with nothing fetched.
+    std::ifstream in(dir / "out/report.html");
+    const std::string page((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    const size_t table = page.find("<table id=\"models\">");
+    ASSERT_NE(table, std::string::npos);
+    const std::string models = page.substr(table, page.find("</table>", table) - table);
+    for (const auto& name : names)
+      EXPECT_NE(models.find("<tr><td>" + name + "</td>"), std::string::npos) << name;
+    EXPECT_NE(page.find("data:image/png;base64,"), std::string::npos);  // comparison.png
+    EXPECT_EQ(page.find(" src=\"http"), std::string::npos);
+  }
   EXPECT_FALSE(fs::exists(dir / "out/teacher_student.md"));  // neither a teacher nor a student
   EXPECT_EQ(run(compare + " --out " + (dir / "nothing").string()), 2);  // no model at all
   EXPECT_EQ(run(compare + " --checkpoints " + (dir / "none.pt").string() + " --out " +

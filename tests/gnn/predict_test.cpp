@@ -5,6 +5,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <set>
 
 #include "common/config_error.h"
@@ -87,11 +88,17 @@ TEST(Predict, RiverSmallFromTheSceneAloneReleasesTheWholeLeak) {
   EXPECT_EQ(summary["frames"], 32);
   const fs::path run = dir / "predicted";
   for (const char* file :
-       {"metadata.json", "trajectory.h5", "stats.json", "spill.json", "spill.svg"})
+       {"metadata.json", "trajectory.h5", "stats.json", "spill.json", "spill.svg", "report.html"})
     EXPECT_TRUE(fs::exists(run / file)) << file;
   const nlohmann::json metadata = read_json(run / "metadata.json");
   EXPECT_EQ(metadata["predicted_by"]["checkpoint"], kDpi);
   EXPECT_EQ(metadata["predicted_by"]["model"], "dpi");
+  {
+    // The report says which model predicted it.
+    std::ifstream in(run / "report.html");
+    const std::string page((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    EXPECT_NE(page.find("<td>predicted by</td><td>dpi ("), std::string::npos);
+  }
 
   // spill-sim run's folder for the same scene has the same files and spill.json keys.
   sph::RunOptions sph_run;

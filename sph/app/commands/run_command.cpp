@@ -1,5 +1,5 @@
 // spill-sim run --scene FILE --out DIR [--set /pointer=value ...] [--threads N] [--ply] [--png]
-//               [--force] [--save-state-at T] [--initial-state FILE]
+//               [--vtk] [--force] [--save-state-at T] [--initial-state FILE]
 
 #include <unistd.h>
 
@@ -32,6 +32,8 @@ Command add_run_command(CLI::App& app, const CommandContext& context) {
       ->check(common::positive());
   c->add_flag("--ply", o->run.ply, "Write a PLY file per frame");
   c->add_flag("--png", o->run.png, "Write side- and top-view PNG pictures per frame");
+  c->add_flag("--vtk", o->run.vtk,
+              "Write VTK (ParaView) point files per frame in vtk/ with a fluid.pvd collection");
   c->add_flag(
       "--force", o->run.force,
       "Replace an earlier run folder (only one of ours; it is removed after the new run succeeds)");
