@@ -1,5 +1,6 @@
 // spill-infer compare: every model rolled out from the same frames of the same trajectories,
 // scored alike, in one table and one picture (the paper's Table 5 and Fig. 13-17).
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <map>
@@ -102,6 +103,7 @@ const char* const kFigureOrder[] = {"one_step_mse",
                                     "slick_area_error",
                                     "front_distance_error_m",
                                     "bank_contact_time_error_s",
+                                    "watch_arrival_time_error_s",
                                     "compression_mean",
                                     "compression_p95",
                                     "seconds_per_frame",
@@ -122,6 +124,7 @@ std::map<std::string, Figure> figures_of(const std::vector<TrajectoryScores>& sc
     f["slick_area_error"].add(slick_area_error(s));
     f["front_distance_error_m"].add(front_distance_error(s));
     f["bank_contact_time_error_s"].add(bank_contact_time_error(s));
+    f["watch_arrival_time_error_s"].add(watch_arrival_time_error(s));
     if (!s.predicted.compression_mean.empty()) {
       f["compression_mean"].add(mean(s.predicted.compression_mean));
       f["compression_p95"].add(mean(s.predicted.compression_p95));
@@ -132,17 +135,20 @@ std::map<std::string, Figure> figures_of(const std::vector<TrajectoryScores>& sc
   return f;
 }
 
+// The mean at each frame over the trajectories that reach it and define it there (series hold
+// NaN where a figure is undefined); NaN (written as null) where none does.
 std::vector<double> mean_by_frame(const std::vector<TrajectoryScores>& scores,
                                   std::vector<double> TrajectoryScores::*series) {
   size_t longest = 0;
   for (const auto& s : scores) longest = std::max(longest, (s.*series).size());
   std::vector<double> sum(longest, 0.0), count(longest, 0.0);
   for (const auto& s : scores)
-    for (size_t k = 0; k < (s.*series).size(); ++k) {
-      sum[k] += (s.*series)[k];
-      count[k] += 1;
-    }
-  for (size_t k = 0; k < longest; ++k) sum[k] /= count[k];
+    for (size_t k = 0; k < (s.*series).size(); ++k)
+      if (std::isfinite((s.*series)[k])) {
+        sum[k] += (s.*series)[k];
+        count[k] += 1;
+      }
+  for (size_t k = 0; k < longest; ++k) sum[k] = count[k] > 0 ? sum[k] / count[k] : std::nan("");
   return sum;
 }
 
@@ -227,8 +233,11 @@ nlohmann::json model_row(const ComparedModel& model, const gnn::RuntimeSettings&
   row["skipped_inflow_layers"] = skipped;
   // Frame by frame (frame k after from_frame at index k - 1), the mean over the trajectories
   // that reach it: for figures at a simulated time rather than a frame count.
-  row["by_frame"] = {{"rollout_mse", mean_by_frame(scores, &TrajectoryScores::mse)},
-                     {"oil_iou", mean_by_frame(scores, &TrajectoryScores::iou)}};
+  row["by_frame"] = {
+      {"rollout_mse", mean_by_frame(scores, &TrajectoryScores::mse)},
+      {"oil_iou", mean_by_frame(scores, &TrajectoryScores::iou)},
+      {"slick_area_error", mean_by_frame(scores, &TrajectoryScores::slick_area_error)},
+      {"front_distance_error_m", mean_by_frame(scores, &TrajectoryScores::front_error)}};
   return row;
 }
 
@@ -261,13 +270,17 @@ const char* const kUnits =
     "slick_area_error: |A_pred - A_true| / A_true, mean over frames; front_distance_error_m: "
     "|front_pred - front_true|, mean over frames; bank_contact_time_error_s: |t_pred - "
     "t_true| of each bank's first contact (a bank touched by one side only: the time from "
-    "that contact to the rollout's end), mean over banks. Oil is a particle whose oil "
+    "that contact to the rollout's end), mean over banks; watch_arrival_time_error_s: the same "
+    "of the first oil within each of the scene's watch points (a watch point neither side "
+    "reached does not count), mean over watch points. Oil is a particle whose oil "
     "fraction is at least 1/2; slick, front and banks are spill.json's measures. "
     "compression_mean / compression_p95: mean and 95th percentile over the particles of "
     "max(rho/rho0 - 1, 0) of each predicted frame (after the relaxation when "
     "relax_iterations > 0), mean over frames; sph.compression_mean: the same of the recorded "
-    "frames. by_frame: rollout_mse and oil_iou at every frame after from_frame (index k - 1 "
-    "for frame k), mean over the trajectories that reach it. "
+    "frames. by_frame: rollout_mse, oil_iou, slick_area_error and front_distance_error_m at "
+    "every frame after from_frame (index k - 1 for frame k), mean over the trajectories that "
+    "reach it and define it there (null: none does; the slick area error is undefined while "
+    "the recording has no slick). "
     "seconds_per_simulated_second: wall time per frame (graph building included) over "
     "frame_dt; null: not defined for this data (e.g. no river, no bank touched). "
     "skipped_inflow_layers: standalone rollouts only, summed over the trajectories: inflow "
@@ -300,8 +313,8 @@ std::string comparison_markdown(const CompareOptions& o, const gnn::DatasetMetad
      << "the order of this table; oil drawn where a particle's oil fraction is at least 1/2.\n\n";
   md << "| model | params | one-step MSE (m²) | MSE @5 | MSE @10 | MSE @20 | MSE @50 | oil IoU "
         "@10 | oil IoU @20 | oil IoU @50 | slick area error | front error (m) | bank contact "
-        "error (s) | s per frame | s per simulated s |\n";
-  md << "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+        "error (s) | watch-point arrival error (s) | s per frame | s per simulated s |\n";
+  md << "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
   for (size_t k = 0; k < models.size(); ++k) {
     auto& f = figures[k];
     md << "| " << models[k].name << " (" << rows[k]["model"].get<std::string>() << ") | "
@@ -311,11 +324,12 @@ std::string comparison_markdown(const CompareOptions& o, const gnn::DatasetMetad
        << cell_text(f["oil_iou_10"]) << " | " << cell_text(f["oil_iou_20"]) << " | "
        << cell_text(f["oil_iou_50"]) << " | " << cell_text(f["slick_area_error"]) << " | "
        << cell_text(f["front_distance_error_m"]) << " | "
-       << cell_text(f["bank_contact_time_error_s"]) << " | " << cell_text(f["seconds_per_frame"])
+       << cell_text(f["bank_contact_time_error_s"]) << " | "
+       << cell_text(f["watch_arrival_time_error_s"]) << " | " << cell_text(f["seconds_per_frame"])
        << " | " << cell_text(f["seconds_per_simulated_second"]) << " |\n";
   }
   Figure sph_figure{sph_rates};
-  md << "| SPH (the data) | - | - | - | - | - | - | - | - | - | - | - | - | - | "
+  md << "| SPH (the data) | - | - | - | - | - | - | - | - | - | - | - | - | - | - | "
      << cell_text(sph_figure) << " |\n";
   return md.str();
 }

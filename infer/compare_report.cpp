@@ -75,6 +75,7 @@ void write_compare_report(const fs::path& folder) {
       {"slick_area_error", "slick area error"},
       {"front_distance_error_m", "leading edge error (m)"},
       {"bank_contact_time_error_s", "bank contact error (s)"},
+      {"watch_arrival_time_error_s", "watch-point arrival error (s)"},
       {"seconds_per_simulated_second", "s per simulated s"}};
   std::vector<std::string> header = {"name", "model"};
   for (const auto& [key, label] : columns) header.push_back(label);

@@ -89,6 +89,7 @@ TrajectoryScores score_trajectory(const LoadedData& d, const gnn::Trajectory& t,
          {"slick_area_error", optional_json(slick_area_error(s))},
          {"front_distance_error_m", optional_json(front_distance_error(s))},
          {"bank_contact_time_error_s", optional_json(bank_contact_time_error(s))},
+         {"watch_arrival_time_error_s", optional_json(watch_arrival_time_error(s))},
          {"wall_s_per_frame", s.wall_s_per_frame},
          {"skipped_inflow_layers", s.skipped_inflow_layers}};
   return s;

@@ -51,7 +51,29 @@ FrameMeasures measure_frames(gnn::SpillScene& scene, const torch::Tensor& positi
       out.compression_p95.push_back(c.p95);
     }
   }
+  if (river)
+    for (const std::string& name : scene.watch_point_names())
+      out.arrival[name] = river->arrival(name);
   return out;
+}
+
+// The mean over the finite values; none when there are none.
+std::optional<double> finite_mean(const std::vector<double>& values) {
+  std::vector<double> finite;
+  for (double v : values)
+    if (std::isfinite(v)) finite.push_back(v);
+  if (finite.empty()) return std::nullopt;
+  return mean(finite);
+}
+
+// |t_pred - t_true| of an event each side may or may not have seen within a rollout of
+// `seconds`: seen by one side only, the time from that sighting to the rollout's end (a lower
+// bound of the error); seen by neither, none.
+std::optional<double> event_time_error(const std::optional<double>& truth,
+                                       const std::optional<double>& predicted, double seconds) {
+  if (truth && predicted) return std::abs(*predicted - *truth);
+  if (truth || predicted) return seconds - (truth ? *truth : *predicted);
+  return std::nullopt;
 }
 
 }  // namespace
@@ -117,6 +139,16 @@ TrajectoryScores score_frames(gnn::RolloutResult& r, const gnn::Trajectory& t,
   s.rollout_seconds = (time[frames] - time[0]).item<double>();
   s.recorded = recorded;
   if (scene) s.predicted = measure_frames(*scene, r.position, r.active, r.oil_fraction, time);
+  const double undefined = std::nan("");
+  for (int64_t k = 0; k < frames; ++k) {
+    const auto at = [&](const std::vector<double>& v) {
+      return size_t(k) < v.size() ? v[k] : undefined;
+    };
+    const double area = at(recorded.slick_area), front = at(recorded.front);
+    s.slick_area_error.push_back(area > 0 ? std::abs(at(s.predicted.slick_area) - area) / area
+                                          : undefined);
+    s.front_error.push_back(std::abs(at(s.predicted.front) - front));
+  }
   s.wall_s_per_frame =
       std::accumulate(r.frame_seconds.begin(), r.frame_seconds.end(), 0.0) / double(frames);
   s.sph_seconds_per_frame = t.sph_seconds_per_frame;
@@ -149,32 +181,29 @@ torch::Tensor active_since(const torch::Tensor& active) {
 }
 
 std::optional<double> slick_area_error(const TrajectoryScores& s) {
-  std::vector<double> errors;
-  const auto& truth = s.recorded.slick_area;
-  for (size_t k = 0; k < truth.size() && k < s.predicted.slick_area.size(); ++k)
-    if (truth[k] > 0) errors.push_back(std::abs(s.predicted.slick_area[k] - truth[k]) / truth[k]);
-  if (errors.empty()) return std::nullopt;
-  return mean(errors);
+  return finite_mean(s.slick_area_error);
 }
 
 std::optional<double> front_distance_error(const TrajectoryScores& s) {
-  const auto& truth = s.recorded.front;
-  if (truth.empty() || s.predicted.front.size() != truth.size()) return std::nullopt;
-  std::vector<double> errors;
-  for (size_t k = 0; k < truth.size(); ++k)
-    errors.push_back(std::abs(s.predicted.front[k] - truth[k]));
-  return mean(errors);
+  return finite_mean(s.front_error);
 }
 
 std::optional<double> bank_contact_time_error(const TrajectoryScores& s) {
   std::vector<double> errors;
-  for (int b = 0; b < 2; ++b) {
-    const auto& truth = s.recorded.bank[b];
-    const auto& predicted = s.predicted.bank[b];
-    if (truth && predicted)
-      errors.push_back(std::abs(*predicted - *truth));
-    else if (truth || predicted)
-      errors.push_back(s.rollout_seconds - (truth ? *truth : *predicted));
+  for (int b = 0; b < 2; ++b)
+    if (auto e = event_time_error(s.recorded.bank[b], s.predicted.bank[b], s.rollout_seconds))
+      errors.push_back(*e);
+  if (errors.empty()) return std::nullopt;
+  return mean(errors);
+}
+
+std::optional<double> watch_arrival_time_error(const TrajectoryScores& s) {
+  std::vector<double> errors;
+  for (const auto& [name, truth] : s.recorded.arrival) {
+    const auto found = s.predicted.arrival.find(name);
+    const std::optional<double> predicted =
+        found == s.predicted.arrival.end() ? std::nullopt : found->second;
+    if (auto e = event_time_error(truth, predicted, s.rollout_seconds)) errors.push_back(*e);
   }
   if (errors.empty()) return std::nullopt;
   return mean(errors);

@@ -6,6 +6,7 @@
 // (gnn/eval/spill_measures.h).
 
 #include <functional>
+#include <map>
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <optional>
@@ -22,10 +23,13 @@ namespace infer {
 // What spill.json's code and the density measure say of one side's frames 1..F (empty without
 // the dataset's scene): slick area (m^2); for rivers the leading edge downstream of the leak (m)
 // and the first time (s after the rollout's start) each bank (left, right) was touched, if it
-// was; the compression max(rho/rho0 - 1, 0), mean and 95th percentile over the particles.
+// was; the first time oil reached each of the scene's watch points, if it did (by name, every
+// watch point present); the compression max(rho/rho0 - 1, 0), mean and 95th percentile over the
+// particles.
 struct FrameMeasures {
   std::vector<double> slick_area, front;
   std::optional<double> bank[2];
+  std::map<std::string, std::optional<double>> arrival;
   std::vector<double> compression_mean, compression_p95;
 };
 
@@ -37,8 +41,11 @@ FrameMeasures recorded_measures(gnn::SpillScene* scene, const gnn::Trajectory& t
 struct TrajectoryScores {
   std::optional<double> one_step_mse;           // none for the ceiling (no model to take one step)
   std::vector<double> mse, mmd, ke_error, iou;  // per rollout frame 1..F
-  FrameMeasures recorded, predicted;            // spill and density measures of each side
-  double rollout_seconds = 0;                   // simulated seconds the rollout spans
+  // Per rollout frame 1..F, NaN where undefined: |A_pred - A_true| / A_true (undefined without
+  // a recorded slick) and |front_pred - front_true| (m; undefined without a river).
+  std::vector<double> slick_area_error, front_error;
+  FrameMeasures recorded, predicted;  // spill and density measures of each side
+  double rollout_seconds = 0;         // simulated seconds the rollout spans
   double wall_s_per_frame = 0, sph_seconds_per_frame = 0;
   long skipped_inflow_layers = 0;  // gnn::RolloutResult's
 };
@@ -95,10 +102,12 @@ gnn::FrameCorrection relaxation_hook(gnn::SpillScene* scene, int iterations);
 // Responder figures of one trajectory's scores (absent when it has none of that kind):
 // mean |A_pred - A_true| / A_true over frames with a slick; mean |front_pred - front_true| (m);
 // mean over banks of |t_pred - t_true| (s), a bank touched by one side only counting the time
-// from that contact to the end of the rollout (a lower bound of the error).
+// from that contact to the end of the rollout (a lower bound of the error); the same over the
+// watch points' arrival times (a watch point neither side reached does not count).
 std::optional<double> slick_area_error(const TrajectoryScores& s);
 std::optional<double> front_distance_error(const TrajectoryScores& s);
 std::optional<double> bank_contact_time_error(const TrajectoryScores& s);
+std::optional<double> watch_arrival_time_error(const TrajectoryScores& s);
 
 // The trajectory's scene for the oil measures; null, with a line on `log` saying why the
 // responder measures are left out, when the dataset carries no scene the simulator accepts.

@@ -1,7 +1,10 @@
 #!/usr/bin/env python3
 """Where each model of a `spill-infer compare --constant-velocity --ceiling D` run stands
 between the constant-velocity floor (0) and the ceiling, the data's own solver restarted from a
-jittered frame (1), per figure and per seed group, as a Markdown table on stdout.
+jittered frame (1), per figure and per seed group, as Markdown tables on stdout: the position
+MSE and oil IoU at the given times, the responder's errors (slick area and leading edge at those
+times and over all frames, bank contact and watch-point arrival), then each figure's place
+between floor and ceiling.
 
 usage: scripts/ceiling_table.py COMPARISON_JSON [SECONDS ...]   (default seconds: 1 2 4)
 
@@ -9,6 +12,7 @@ Seed groups: rows whose names differ only by a trailing _f40 / _sN (gns_f40, gns
 are averaged, with their spread over seeds. A figure at a time t is the mean over trajectories
 of the frame round(t / frame_dt) after the start (comparison.json's by_frame)."""
 import json
+import math
 import re
 import statistics
 import sys
@@ -26,9 +30,13 @@ def main():
     floor, ceiling = rows["constant_velocity"], rows["sph_ceiling"]
 
     def at(model, series, t):
-        values = model["by_frame"][series]
+        values = model["by_frame"].get(series, [])
         k = int(round(t / dt))
-        return values[k - 1] if 0 < k <= len(values) else float("nan")
+        value = values[k - 1] if 0 < k <= len(values) else None
+        return float("nan") if value is None else value
+
+    def whole(model, key):
+        return float("nan") if model.get(key) is None else model[key]
 
     groups = {}
     for name, model in rows.items():
@@ -37,42 +45,56 @@ def main():
         groups.setdefault(re.sub(r"_(f\d+|s\d+)$", "", name), []).append(model)
 
     def cell(values):
+        if any(math.isnan(v) for v in values):
+            return "-"
         if len(values) < 2:
             return "%.3g" % values[0]
         return "%.3g ± %.2g" % (statistics.mean(values), statistics.stdev(values))
 
-    head = ["model (seeds)"]
-    for t in seconds:
-        head += ["MSE @%gs (m²)" % t, "oil IoU @%gs" % t]
-    head += ["slick area error", "front error (m)"]
-    print("| " + " | ".join(head) + " |")
-    print("|" + "---|" * len(head))
-    for label, models in [("constant velocity (floor)", [floor]),
-                          ("SPH restarted, jittered (ceiling)", [ceiling])] + \
-            [("%s (%d)" % (g, len(ms)), ms) for g, ms in groups.items()]:
-        line = [label]
-        for t in seconds:
-            line.append(cell([at(m, "rollout_mse", t) for m in models]))
-            line.append(cell([at(m, "oil_iou", t) for m in models]))
-        line.append(cell([m["slick_area_error"] for m in models]))
-        line.append(cell([m["front_distance_error_m"] for m in models]))
-        print("| " + " | ".join(line) + " |")
-    print()
+    labelled = [("constant velocity (floor)", [floor]),
+                ("SPH restarted, jittered (ceiling)", [ceiling])] + \
+        [("%s (%d)" % (g, len(ms)), ms) for g, ms in groups.items()]
+
+    def table(columns):
+        """columns: (heading, value of a model) pairs; one row per labelled group."""
+        print("| model (seeds) | " + " | ".join(h for h, _ in columns) + " |")
+        print("|" + "---|" * (len(columns) + 1))
+        for label, models in labelled:
+            print("| " + " | ".join([label] + [cell([f(m) for m in models])
+                                               for _, f in columns]) + " |")
+        print()
+
+    def series_at(series, t):
+        return lambda m: at(m, series, t)
+
+    table([c for t in seconds for c in (("MSE @%gs (m²)" % t, series_at("rollout_mse", t)),
+                                         ("oil IoU @%gs" % t, series_at("oil_iou", t)))])
+    table([("slick area error @%gs" % t, series_at("slick_area_error", t)) for t in seconds] +
+          [("slick area error, all frames", lambda m: whole(m, "slick_area_error"))] +
+          [("front error @%gs (m)" % t, series_at("front_distance_error_m", t))
+           for t in seconds] +
+          [("front error, all frames (m)", lambda m: whole(m, "front_distance_error_m")),
+           ("bank contact error (s)", lambda m: whole(m, "bank_contact_time_error_s")),
+           ("watch-point arrival error (s)", lambda m: whole(m, "watch_arrival_time_error_s"))])
     print("Between the floor (0) and the ceiling (1), mean over seeds (higher is better):")
     print()
-    head = ["model"] + ["MSE @%gs" % t for t in seconds] + ["IoU @%gs" % t for t in seconds] + \
-        ["slick area error", "front error"]
+    by_time = [("MSE", "rollout_mse"), ("IoU", "oil_iou"), ("area", "slick_area_error"),
+               ("front", "front_distance_error_m")]
+    whole_keys = [("area, all", "slick_area_error"), ("front, all", "front_distance_error_m"),
+                  ("bank", "bank_contact_time_error_s"), ("watch", "watch_arrival_time_error_s")]
+    head = ["model"] + ["%s @%gs" % (name, t) for name, _ in by_time for t in seconds] + \
+        [name for name, _ in whole_keys]
     print("| " + " | ".join(head) + " |")
     print("|" + "---|" * len(head))
     for g, models in groups.items():
         line = [g]
-        for series in ("rollout_mse", "oil_iou"):
+        for _, series in by_time:
             for t in seconds:
                 v = statistics.mean(at(m, series, t) for m in models)
                 line.append("%.2f" % position(v, at(floor, series, t), at(ceiling, series, t)))
-        for key in ("slick_area_error", "front_distance_error_m"):
-            v = statistics.mean(m[key] for m in models)
-            line.append("%.2f" % position(v, floor[key], ceiling[key]))
+        for _, key in whole_keys:
+            v = statistics.mean(whole(m, key) for m in models)
+            line.append("%.2f" % position(v, whole(floor, key), whole(ceiling, key)))
         print("| " + " | ".join(line) + " |")
 
 

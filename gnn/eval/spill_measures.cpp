@@ -40,6 +40,12 @@ std::unique_ptr<sph::SpillMetrics> SpillScene::river_metrics() const {
   return sph::river_spill_metrics(scene_);
 }
 
+std::vector<std::string> SpillScene::watch_point_names() const {
+  std::vector<std::string> names;
+  for (const auto& w : scene_.watch_points) names.push_back(w.name);
+  return names;
+}
+
 sph::DensityRelaxation& SpillScene::relaxation() {
   if (!relaxation_) relaxation_ = std::make_unique<sph::DensityRelaxation>(scene_);
   return *relaxation_;

@@ -37,6 +37,8 @@ class SpillScene {
   // Fresh per-frame river spill measures (slick area, front, banks), as spill.json's; null when
   // the scene is not a river with a leak.
   std::unique_ptr<sph::SpillMetrics> river_metrics() const;
+  // The names of the scene's watch points (intakes, boom sites), in the scene's order.
+  std::vector<std::string> watch_point_names() const;
   // The simulator's constant-density correction for this scene (built on first use).
   sph::DensityRelaxation& relaxation();
 

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <cmath>
 #include <filesystem>
 
 #include "gnn/data/frame_window.h"
@@ -21,9 +22,11 @@ namespace fs = std::filesystem;
 namespace {
 
 const std::string kRiverSmall = std::string(SPILL_SOURCE_DIR) + "/configs/scenes/river_small.json";
-// A short leak inside one simulated second of river_small (20 frames of 0.05 s).
-const std::vector<std::string> kShortLeak = {"/leaks/0/start=0.1", "/leaks/0/duration=0.5",
-                                             "/end_time=1.0"};
+// A short leak inside one simulated second of river_small (20 frames of 0.05 s), with a watch
+// point 0.6 m downstream of the leak that its oil reaches.
+const std::vector<std::string> kShortLeak = {
+    "/leaks/0/start=0.1", "/leaks/0/duration=0.5", "/end_time=1.0",
+    R"(/watch_points=[{"name": "intake", "x": 1.6, "y": 0, "radius": 0.2}])"};
 
 class Standalone : public ::testing::Test {
  protected:
@@ -163,4 +166,66 @@ TEST_F(Standalone, ATrajectoryWithoutASceneNamesTheReplayOption) {
     EXPECT_NE(std::string(e.what()).find("--replay-recorded-sources"), std::string::npos)
         << e.what();
   }
+}
+
+// The responder's errors frame by frame: nil for the recording scored against itself; the oil
+// moved 0.2 m downstream gives a leading-edge error of 0.2 m wherever the front is inside the
+// reach, and an earlier arrival at the watch point, by at most the time the flow takes for 0.2 m
+// plus a frame.
+TEST_F(Standalone, ResponderErrorsAreNilForTheRecordingAndSeeTheOilMoved) {
+  const gnn::Trajectory& t = recording_.trajectory;
+  const gnn::DatasetMetadata& m = recording_.metadata;
+  const int64_t from = 2, frames = t.frames() - 1 - from;
+  gnn::SpillScene scene(t);
+  ASSERT_EQ(scene.watch_point_names(), std::vector<std::string>{"intake"});
+  const auto recorded = infer::recorded_measures(&scene, t, from, frames);
+  ASSERT_TRUE(recorded.arrival.at("intake")) << "the test's oil must reach the watch point";
+  const auto span = [&](const torch::Tensor& x) { return x.slice(0, from, from + frames + 1); };
+  gnn::RolloutResult same{from, span(t.position).clone(), span(t.active).clone(),
+                          span(t.oil_fraction).clone(), std::vector<double>(size_t(frames), 0.0)};
+  const auto nil = infer::score_frames(same, t, m, &scene, recorded, from, frames);
+  ASSERT_EQ(nil.slick_area_error.size(), size_t(frames));
+  int defined = 0;
+  for (int64_t k = 0; k < frames; ++k) {
+    EXPECT_EQ(nil.front_error[k], 0.0) << k;
+    if (std::isfinite(nil.slick_area_error[k])) {
+      EXPECT_EQ(nil.slick_area_error[k], 0.0) << k;
+      ++defined;
+    }
+  }
+  EXPECT_GT(defined, frames / 2);
+  EXPECT_EQ(infer::watch_arrival_time_error(nil), 0.0);
+
+  const double shift = 0.2;
+  gnn::RolloutResult moved = same;
+  moved.position = same.position.clone();
+  const auto oil = moved.oil_fraction >= gnn::kOilFractionThreshold;
+  moved.position.select(2, 0).add_(oil.to(torch::kFloat32) * shift);
+  const auto scores = infer::score_frames(moved, t, m, &scene, recorded, from, frames);
+  const double reach_end = scene_.config.flow->outflow_x - 1.0;  // leak at x = 1
+  int inside = 0;
+  for (int64_t k = 0; k < frames; ++k)
+    if (recorded.front[k] > 0 && recorded.front[k] + shift < reach_end) {
+      EXPECT_NEAR(scores.front_error[k], shift, 1e-4) << k;
+      ++inside;
+    }
+  EXPECT_GT(inside, 5);
+  const auto early = scores.predicted.arrival.at("intake");
+  ASSERT_TRUE(early);
+  const double lead = *recorded.arrival.at("intake") - *early;
+  EXPECT_GE(lead, 0.0);
+  EXPECT_LE(lead, shift / 1.0 + m.frame_dt);  // the oil moves at about 1.5 m/s, never under 1
+  EXPECT_DOUBLE_EQ(*infer::watch_arrival_time_error(scores), lead);
+}
+
+// An event seen by one side only counts the time from that sighting to the rollout's end; seen
+// by neither, it does not count.
+TEST(ResponderErrors, AnArrivalSeenByOneSideCountsToTheEnd) {
+  infer::TrajectoryScores s;
+  s.rollout_seconds = 4.0;
+  s.recorded.arrival = {{"a", 1.0}, {"b", 1.5}, {"c", std::nullopt}};
+  s.predicted.arrival = {{"a", 1.25}, {"b", std::nullopt}, {"c", std::nullopt}};
+  EXPECT_DOUBLE_EQ(*infer::watch_arrival_time_error(s), (0.25 + 2.5) / 2);
+  s.recorded.arrival = {{"c", std::nullopt}};
+  EXPECT_FALSE(infer::watch_arrival_time_error(s));
 }
