@@ -1,0 +1,139 @@
+#include "reach/raster.h"
+
+#include <gdal_priv.h>
+
+#include <cmath>
+#include <memory>
+#include <stdexcept>
+
+namespace reach {
+
+namespace {
+
+// GDAL's drivers are registered once per process; GDALAllRegister is idempotent and
+// thread-safe, so each entry point calls it rather than relying on a global initialiser.
+void register_drivers() {
+  GDALAllRegister();
+}
+
+struct DatasetCloser {
+  void operator()(GDALDataset* d) const { GDALClose(d); }
+};
+using DatasetHandle = std::unique_ptr<GDALDataset, DatasetCloser>;
+
+}  // namespace
+
+Raster read_raster(const std::string& path) {
+  register_drivers();
+  CPLPushErrorHandler(CPLQuietErrorHandler);
+  DatasetHandle d(GDALDataset::Open(path.c_str(), GDAL_OF_RASTER | GDAL_OF_READONLY));
+  CPLPopErrorHandler();
+  if (!d) {
+    const std::string why = CPLGetLastErrorMsg();
+    throw RasterError(path + ": GDAL cannot open it as a raster" +
+                      (why.empty() ? std::string() : " (" + why + ")"));
+  }
+  if (d->GetRasterCount() < 1) throw RasterError(path + ": the file holds no raster band");
+  double gt[6];
+  if (d->GetGeoTransform(gt) != CE_None)
+    throw RasterError(path + ": no geotransform (the raster is not georeferenced)");
+  if (gt[2] != 0 || gt[4] != 0)
+    throw RasterError(path + ": a rotated or sheared raster (geotransform terms " +
+                      std::to_string(gt[2]) + ", " + std::to_string(gt[4]) +
+                      ") is not supported; warp it to north-up first (gdalwarp)");
+  if (!(gt[1] > 0) || gt[5] == 0)
+    throw RasterError(path + ": pixel size " + std::to_string(gt[1]) + " x " +
+                      std::to_string(gt[5]) + " is not usable");
+  Raster r;
+  r.grid.nx = d->GetRasterXSize();
+  r.grid.ny = d->GetRasterYSize();
+  r.grid.dx = gt[1];
+  r.grid.dy = std::abs(gt[5]);
+  r.grid.x0 = gt[0];
+  const bool north_up = gt[5] < 0;
+  r.grid.y0 = north_up ? gt[3] + gt[5] * r.grid.ny : gt[3];
+  const char* wkt = d->GetProjectionRef();
+  r.crs_wkt = wkt ? wkt : "";
+
+  GDALRasterBand* band = d->GetRasterBand(1);
+  std::vector<double> rows(r.grid.cells());
+  if (band->RasterIO(GF_Read, 0, 0, r.grid.nx, r.grid.ny, rows.data(), r.grid.nx, r.grid.ny,
+                     GDT_Float64, 0, 0) != CE_None)
+    throw RasterError(path + ": reading band 1 failed (" + CPLGetLastErrorMsg() + ")");
+  int has_nodata = 0;
+  const double nodata = band->GetNoDataValue(&has_nodata);
+  r.values.assign(r.grid.cells(), 0.0);
+  size_t valid = 0;
+  for (int row = 0; row < r.grid.ny; ++row) {
+    const int j = north_up ? r.grid.ny - 1 - row : row;
+    for (int i = 0; i < r.grid.nx; ++i) {
+      double v = rows[size_t(row) * size_t(r.grid.nx) + size_t(i)];
+      if ((has_nodata && (v == nodata || (std::isnan(nodata) && std::isnan(v)))) ||
+          !std::isfinite(v))
+        v = std::nan("");
+      else
+        ++valid;
+      r.values[r.grid.at(i, j)] = v;
+    }
+  }
+  if (valid == 0) throw RasterError(path + ": every cell is nodata");
+  return r;
+}
+
+void write_geotiff(const std::string& path, const Raster& r) {
+  register_drivers();
+  constexpr double kNoData = -9999.0;
+  GDALDriver* driver = GetGDALDriverManager()->GetDriverByName("GTiff");
+  if (!driver) throw std::runtime_error(path + ": GDAL has no GeoTIFF driver");
+  char** options = nullptr;
+  options = CSLSetNameValue(options, "COMPRESS", "DEFLATE");
+  options = CSLSetNameValue(options, "PREDICTOR", "3");  // floating-point predictor
+  DatasetHandle d(driver->Create(path.c_str(), r.grid.nx, r.grid.ny, 1, GDT_Float32, options));
+  CSLDestroy(options);
+  if (!d) throw std::runtime_error(path + ": GDAL cannot create it (" + CPLGetLastErrorMsg() + ")");
+  double gt[6] = {r.grid.x0, r.grid.dx, 0, r.grid.y0 + r.grid.dy * r.grid.ny, 0, -r.grid.dy};
+  d->SetGeoTransform(gt);
+  if (!r.crs_wkt.empty()) d->SetProjection(r.crs_wkt.c_str());
+  std::vector<float> rows(r.grid.cells());
+  for (int row = 0; row < r.grid.ny; ++row) {
+    const int j = r.grid.ny - 1 - row;
+    for (int i = 0; i < r.grid.nx; ++i) {
+      const double v = r.values[r.grid.at(i, j)];
+      rows[size_t(row) * size_t(r.grid.nx) + size_t(i)] = std::isnan(v) ? float(kNoData) : float(v);
+    }
+  }
+  GDALRasterBand* band = d->GetRasterBand(1);
+  band->SetNoDataValue(kNoData);
+  if (band->RasterIO(GF_Write, 0, 0, r.grid.nx, r.grid.ny, rows.data(), r.grid.nx, r.grid.ny,
+                     GDT_Float32, 0, 0) != CE_None)
+    throw std::runtime_error(path + ": writing failed (" + CPLGetLastErrorMsg() + ")");
+  d.reset();  // GDALClose flushes; an error there is GDAL's last message
+  if (CPLGetLastErrorType() == CE_Failure)
+    throw std::runtime_error(path + ": closing failed (" + CPLGetLastErrorMsg() + ")");
+}
+
+Raster coarsen(const Raster& r, int factor) {
+  if (factor < 1) throw std::invalid_argument("a coarsening factor must be >= 1");
+  Raster c;
+  c.crs_wkt = r.crs_wkt;
+  c.grid = r.grid;
+  c.grid.nx = (r.grid.nx + factor - 1) / factor;
+  c.grid.ny = (r.grid.ny + factor - 1) / factor;
+  c.grid.dx = r.grid.dx * factor;
+  c.grid.dy = r.grid.dy * factor;
+  c.values.assign(c.grid.cells(), std::nan(""));
+  for (int J = 0; J < c.grid.ny; ++J)
+    for (int I = 0; I < c.grid.nx; ++I) {
+      double sum = 0;
+      int count = 0;
+      for (int j = J * factor; j < std::min(r.grid.ny, (J + 1) * factor); ++j)
+        for (int i = I * factor; i < std::min(r.grid.nx, (I + 1) * factor); ++i) {
+          const double v = r.values[r.grid.at(i, j)];
+          if (!std::isnan(v)) sum += v, ++count;
+        }
+      if (count > 0) c.values[c.grid.at(I, J)] = sum / count;
+    }
+  return c;
+}
+
+}  // namespace reach

@@ -1,0 +1,40 @@
+#pragma once
+// Georeferenced rasters through GDAL: elevation in (GeoTIFF, ESRI ASCII and every other format
+// GDAL reads), depth, velocity and level out (GeoTIFF). A raster keeps its georeferencing: GDAL's
+// geotransform puts the upper-left corner of the first pixel at (GT[0], GT[3]) with pixels GT[1]
+// wide and GT[5] high (negative for north-up); here it becomes a Grid whose cell (0, 0) is the
+// south-west one, rows running north, so that the solver's y grows northwards like the map's.
+// The coordinate reference system is carried as WKT; nodata becomes NaN.
+
+#include <string>
+
+#include "common/exit_codes.h"
+#include "reach/grid.h"
+
+namespace reach {
+
+// A raster that cannot be used as given (exit code 2); the message names the file.
+class RasterError : public common::InputError {
+ public:
+  using common::InputError::InputError;
+};
+
+struct Raster {
+  Grid grid;            // x0, y0: the south-west corner in the CRS's units; dx, dy > 0
+  Field values;         // grid order (row 0 the southernmost); NaN where the file has nodata
+  std::string crs_wkt;  // empty when the file has none
+};
+
+// Band 1 of `path`. Refuses (RasterError naming the file) a file GDAL cannot open, a rotated or
+// sheared geotransform, and a raster with no valid cell.
+Raster read_raster(const std::string& path);
+
+// Writes `raster` as a single-band Float32 GeoTIFF (DEFLATE) with nodata -9999 where a value is
+// NaN, its geotransform and CRS. Throws std::runtime_error naming the file when GDAL fails.
+void write_geotiff(const std::string& path, const Raster& raster);
+
+// The mean of each factor x factor block of valid cells (NaN where a block has none); the last
+// row and column of blocks may be partial. For running a fine DEM on a coarser grid.
+Raster coarsen(const Raster& raster, int factor);
+
+}  // namespace reach
