@@ -1,7 +1,9 @@
 #include "reach/raster.h"
 
 #include <gdal_priv.h>
+#include <ogr_spatialref.h>
 
+#include <algorithm>
 #include <cmath>
 #include <memory>
 #include <stdexcept>
@@ -110,6 +112,51 @@ void write_geotiff(const std::string& path, const Raster& r) {
   d.reset();  // GDALClose flushes; an error there is GDAL's last message
   if (CPLGetLastErrorType() == CE_Failure)
     throw std::runtime_error(path + ": closing failed (" + CPLGetLastErrorMsg() + ")");
+}
+
+Raster crop(const Raster& r, double x_min, double y_min, double x_max, double y_max,
+            const std::string& what) {
+  const int i0 = std::max(0, int(std::ceil((x_min - r.grid.x0) / r.grid.dx - 0.5)));
+  const int i1 = std::min(r.grid.nx - 1, int(std::floor((x_max - r.grid.x0) / r.grid.dx - 0.5)));
+  const int j0 = std::max(0, int(std::ceil((y_min - r.grid.y0) / r.grid.dy - 0.5)));
+  const int j1 = std::min(r.grid.ny - 1, int(std::floor((y_max - r.grid.y0) / r.grid.dy - 0.5)));
+  if (i1 < i0 || j1 < j0)
+    throw RasterError(what + ": no cell of the raster lies inside it (the raster spans x " +
+                      std::to_string(r.grid.x0) + " to " +
+                      std::to_string(r.grid.x0 + r.grid.nx * r.grid.dx) + ", y " +
+                      std::to_string(r.grid.y0) + " to " +
+                      std::to_string(r.grid.y0 + r.grid.ny * r.grid.dy) + ")");
+  Raster c;
+  c.crs_wkt = r.crs_wkt;
+  c.grid = r.grid;
+  c.grid.nx = i1 - i0 + 1;
+  c.grid.ny = j1 - j0 + 1;
+  c.grid.x0 = r.grid.x0 + i0 * r.grid.dx;
+  c.grid.y0 = r.grid.y0 + j0 * r.grid.dy;
+  c.values.resize(c.grid.cells());
+  for (int j = 0; j < c.grid.ny; ++j)
+    for (int i = 0; i < c.grid.nx; ++i)
+      c.values[c.grid.at(i, j)] = r.values[r.grid.at(i0 + i, j0 + j)];
+  return c;
+}
+
+std::string crs_wkt_of(const std::string& user) {
+  OGRSpatialReference srs;
+  CPLPushErrorHandler(CPLQuietErrorHandler);
+  const OGRErr err = srs.SetFromUserInput(user.c_str());
+  CPLPopErrorHandler();
+  if (err != OGRERR_NONE) throw RasterError("unknown coordinate reference system \"" + user + "\"");
+  char* wkt = nullptr;
+  srs.exportToWkt(&wkt);
+  std::string out = wkt ? wkt : "";
+  CPLFree(wkt);
+  return out;
+}
+
+bool crs_is_geographic(const std::string& wkt) {
+  OGRSpatialReference srs;
+  if (srs.importFromWkt(wkt.c_str()) != OGRERR_NONE) return false;
+  return srs.IsGeographic() != 0;
 }
 
 Raster coarsen(const Raster& r, int factor) {

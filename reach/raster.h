@@ -33,6 +33,17 @@ Raster read_raster(const std::string& path);
 // NaN, its geotransform and CRS. Throws std::runtime_error naming the file when GDAL fails.
 void write_geotiff(const std::string& path, const Raster& raster);
 
+// The cells of `r` whose centres lie in [x_min, x_max] x [y_min, y_max] (map coordinates);
+// throws RasterError naming `what` when none does.
+Raster crop(const Raster& raster, double x_min, double y_min, double x_max, double y_max,
+            const std::string& what);
+
+// `user` (EPSG:2193, a WKT, a PROJ string: whatever GDAL's SetFromUserInput takes) as WKT;
+// throws RasterError naming it when GDAL does not know it.
+std::string crs_wkt_of(const std::string& user);
+// Whether the CRS is geographic (degrees), which a grid in metres cannot use.
+bool crs_is_geographic(const std::string& wkt);
+
 // The mean of each factor x factor block of valid cells (NaN where a block has none); the last
 // row and column of blocks may be partial. For running a fine DEM on a coarser grid.
 Raster coarsen(const Raster& raster, int factor);

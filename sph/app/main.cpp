@@ -1,5 +1,6 @@
 // spill-sim: runs SPH scenes. A dispatcher: each subcommand's options and run are in
-// sph/app/commands/ (run, bench, generate, compare, scene-doc); the work is in the sph library.
+// sph/app/commands/ (run, bench, generate, compare, scene-doc, reach); the work is in the sph
+// library.
 //   spill-sim run --scene FILE --out DIR [--set /pointer=value ...] [--threads N] [--ply] [--png]
 //                 [--force] [--save-state-at T] [--initial-state FILE]
 //   spill-sim bench [--scene FILE] [--radius R ...] [--threads N] [--set ...]
@@ -9,6 +10,8 @@
 //   spill-sim compare --scene FILE --solvers wcsph,dfsph,... --frames T1,T2,... --out DIR
 //                     [--set /pointer=value ...] [--threads N] [--force]
 //   spill-sim scene-doc
+//   spill-sim reach --config FILE --out DIR [--set /pointer=value ...] [--threads N] [--force]
+//   spill-sim reach-doc
 
 #include <CLI/CLI.hpp>
 #include <iostream>
@@ -29,7 +32,8 @@ int main(int argc, char** argv) {
   const std::vector<sph::Command> commands = {
       sph::add_run_command(app, context),       sph::add_bench_command(app, context),
       sph::add_generate_command(app, context),  sph::add_compare_command(app, context),
-      sph::add_scene_doc_command(app, context),
+      sph::add_scene_doc_command(app, context), sph::add_reach_command(app, context),
+      sph::add_reach_doc_command(app, context),
   };
   if (const auto stop = common::parse_command_line(app, argc, argv)) return *stop;
   try {

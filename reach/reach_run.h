@@ -1,0 +1,48 @@
+#pragma once
+// A reach run from its config: the terrain raster (windowed, coarsened, a channel carved), the
+// boundaries placed by map coordinates, the flow advanced to the end (or to a steady state), and
+// the run folder written: rasters of depth, water level and velocity at each output time and the
+// event's maxima as GeoTIFFs in the terrain's CRS, a map picture per output time, and reach.json
+// (discharge through each section, volume balance, wetted area, the steady-state residual).
+
+#include <atomic>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <ostream>
+#include <string>
+#include <vector>
+
+#include "reach/raster.h"
+#include "reach/reach_config.h"
+#include "reach/shallow_water.h"
+
+namespace reach {
+
+// The solver of a config, on its terrain, with its boundaries and initial water, and what a run
+// needs to write georeferenced output.
+struct ReachModel {
+  std::unique_ptr<ShallowWaterSolver> solver;
+  Raster terrain;  // the grid the solver runs on, its bed (after carving) and CRS
+  long carved_cells = 0;
+};
+
+// Throws ConfigError (naming `config_file` and the key) or RasterError (naming the raster) for
+// input that does not fit: a raster GDAL cannot open, no or a geographic CRS, a window or a
+// section outside the raster, a section with no open cell, a Manning raster of another grid.
+ReachModel build_reach(const ReachConfig& config, const std::string& config_file);
+
+struct ReachRunOptions {
+  std::string config_file;
+  std::vector<std::string> overrides;
+  std::string out_dir;
+  bool force = false;
+  const std::atomic<bool>* stop = nullptr;  // set by Ctrl-C: nothing is written, exit 130
+  std::ostream* log = nullptr;              // progress and warnings
+  bool terminal = false;
+  int threads = 1;
+};
+
+// Runs and writes the folder (whole or not at all); returns reach.json's content.
+nlohmann::json run_reach(const ReachRunOptions& options);
+
+}  // namespace reach

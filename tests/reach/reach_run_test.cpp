@@ -1,0 +1,167 @@
+// A reach run from its config (reach/reach_run.h): a tilted channel written here as a GeoTIFF
+// runs to its steady state and writes its folder; bad input is refused naming the key and
+// leaves nothing behind.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <sstream>
+
+#include "common/config_error.h"
+#include "reach/raster.h"
+#include "reach/reach_run.h"
+
+namespace fs = std::filesystem;
+
+namespace {
+
+class ReachRun : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() / ("spill_reach_run_" + std::to_string(getpid()));
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+    // A channel 400 m long with a flat bed 60 m wide falling 1 in 1000 to the west, between
+    // banks 2 m high, on 10 m cells, in NZTM2000 coordinates.
+    reach::Raster r;
+    r.grid.nx = 40, r.grid.ny = 8, r.grid.dx = r.grid.dy = 10;
+    r.grid.x0 = 1771000, r.grid.y0 = 5472000;
+    for (int j = 0; j < r.grid.ny; ++j)
+      for (int i = 0; i < r.grid.nx; ++i)
+        r.values.push_back(0.001 * r.grid.x(i) - 1771.0 + ((j == 0 || j == 7) ? 2.0 : 0.0));
+    r.crs_wkt = reach::crs_wkt_of("EPSG:2193");
+    reach::write_geotiff((dir_ / "channel.tif").string(), r);
+    config_ = {{"name", "channel"},
+               {"terrain", {{"file", "channel.tif"}, {"manning", 0.03}}},
+               {"inflows",
+                {{{"section",
+                   {{"name", "upstream"}, {"side", "east"}, {"from", 5472010}, {"to", 5472070}}},
+                  {"discharge", {{"value", 6.0}}}}}},
+               {"outflows",
+                {{{"section",
+                   {{"name", "downstream"}, {"side", "west"}, {"from", 5472010}, {"to", 5472070}}},
+                  {"kind", "normal_depth"},
+                  {"slope", 0.001}}}},
+               {"end_time", 3000},
+               {"output_every", 1000},
+               {"steady_tolerance", 1e-6}};
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  // Writes the config and runs it into `out`.
+  nlohmann::json run(const nlohmann::json& config, const std::string& out,
+                     const std::vector<std::string>& overrides = {}) {
+    std::ofstream(dir_ / "reach.json") << config.dump(2);
+    reach::ReachRunOptions o;
+    o.config_file = (dir_ / "reach.json").string();
+    o.overrides = overrides;
+    o.out_dir = (dir_ / out).string();
+    o.log = &log_;
+    return reach::run_reach(o);
+  }
+  // The message of the ConfigError a run throws ("" when it throws none).
+  std::string refusal(const std::vector<std::string>& overrides) {
+    try {
+      run(config_, "refused", overrides);
+    } catch (const common::InputError& e) {
+      EXPECT_FALSE(fs::exists(dir_ / "refused")) << "a refused run wrote its folder";
+      return e.what();
+    }
+    return "";
+  }
+
+  fs::path dir_;
+  nlohmann::json config_;
+  std::ostringstream log_;
+};
+
+}  // namespace
+
+// The channel settles at the normal depth of its 6 m^3/s over its 60 m bed (q = 0.1 m^2/s,
+// h_n = (n q / sqrt(S))^(3/5) = 0.243 m) and writes every file reach.json promises.
+TEST_F(ReachRun, ATiltedChannelSettlesAndWritesItsFolder) {
+  const nlohmann::json summary = run(config_, "out");
+  const fs::path out = dir_ / "out";
+  for (const char* f : {"reach.json", "map.png", "max_depth.tif", "max_level.tif"})
+    EXPECT_TRUE(fs::exists(out / f)) << f;
+  EXPECT_TRUE(summary["steady"]["reached"].get<bool>());
+  const auto& last = summary["frames"].back();
+  EXPECT_NEAR(last["section_discharge_m3_s"]["upstream"].get<double>(), 6.0, 1e-9);
+  EXPECT_NEAR(-last["section_discharge_m3_s"]["downstream"].get<double>(), 6.0, 0.03);
+  EXPECT_LT(std::abs(summary["volume_balance"]["error_m3"].get<double>()), 1e-9);
+  const reach::Raster depth =
+      reach::read_raster((out / last["files"]["depth"].get<std::string>()).string());
+  EXPECT_TRUE(fs::exists(out / last["files"]["map"].get<std::string>()));
+  EXPECT_NE(depth.crs_wkt.find("NZGD2000"), std::string::npos);
+  const double normal = std::pow(0.03 * 6.0 / 60.0 / std::sqrt(0.001), 0.6);
+  EXPECT_NEAR(depth.values[depth.grid.at(20, 4)], normal, 0.01 * normal);
+  EXPECT_NEAR(depth.values[depth.grid.at(20, 4)], last["max_depth_m"].get<double>(), 0.1);
+}
+
+TEST_F(ReachRun, BadInputIsRefusedNamingTheKey) {
+  EXPECT_NE(refusal({"/terrain/manning=-1"}).find("/terrain/manning"), std::string::npos);
+  EXPECT_NE(refusal({"/terrain/windw=[0,0,1,1]"}).find("/terrain/windw: unknown key"),
+            std::string::npos);
+  EXPECT_NE(refusal({"/terrain/window=[0,0,10,10]"}).find("/terrain/window"), std::string::npos);
+  EXPECT_NE(refusal({"/inflows/0/section/from=5471000", "/inflows/0/section/to=5471100"})
+                .find("/inflows/0/section"),
+            std::string::npos);
+  EXPECT_NE(refusal({"/terrain/file=missing.tif"}).find("missing.tif"), std::string::npos);
+  EXPECT_NE(refusal({"/terrain/crs=EPSG:4326"}).find("geographic"), std::string::npos);
+  EXPECT_NE(refusal({"/terrain/crs=EPSG:999999"}).find("/terrain/crs"), std::string::npos);
+  EXPECT_NE(refusal({"/inflows/0/discharge={\"value\": -1}"}).find("/inflows/0/discharge"),
+            std::string::npos);
+  // A raster without a CRS needs one named.
+  reach::Raster plain = reach::read_raster((dir_ / "channel.tif").string());
+  plain.crs_wkt.clear();
+  reach::write_geotiff((dir_ / "plain.tif").string(), plain);
+  EXPECT_NE(refusal({"/terrain/file=plain.tif"}).find("/terrain/crs"), std::string::npos);
+  EXPECT_EQ(refusal({"/terrain/file=plain.tif", "/terrain/crs=EPSG:2193", "/end_time=10"}), "");
+}
+
+// A hydrograph from a CSV with dates, as the Waikanae record is written.
+TEST_F(ReachRun, AHydrographReadsFromACsvWithDates) {
+  std::ofstream(dir_ / "flow.csv") << "Date, Flow (m3/s), Code\n01/05/2005 00:00:00, 1.5, 0\n"
+                                      "01/05/2005 00:05:00, 3.5, 0\n";
+  nlohmann::json c = config_;
+  c["inflows"][0]["discharge"] = {{"file", "flow.csv"}, {"time_format", "%m/%d/%Y %H:%M:%S"}};
+  c["end_time"] = 600;
+  c["steady_tolerance"] = 0;
+  c["output_every"] = 150;
+  const nlohmann::json summary = run(c, "csv");
+  // At 150 s the discharge is halfway between 1.5 and 3.5 m^3/s; from 300 s on it is 3.5.
+  EXPECT_NEAR(summary["frames"][1]["section_discharge_m3_s"]["upstream"].get<double>(), 2.5, 0.01);
+  EXPECT_NEAR(summary["frames"][4]["section_discharge_m3_s"]["upstream"].get<double>(), 3.5, 1e-9);
+  c["inflows"][0]["discharge"]["time_format"] = "seconds";
+  try {
+    run(c, "bad");
+    ADD_FAILURE() << "a date read as seconds was accepted";
+  } catch (const common::ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("flow.csv:2"), std::string::npos) << e.what();
+  }
+}
+
+// docs/reach_reference.md is `spill-sim reach-doc`'s output: regenerate it when a key changes
+// (spill-sim reach-doc > docs/reach_reference.md).
+TEST(ReachConfig, TheReferenceDocumentsEveryKey) {
+  std::ifstream in(std::string(SPILL_SOURCE_DIR) + "/docs/reach_reference.md");
+  const std::string doc((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  EXPECT_EQ(doc, reach::reach_reference_markdown());
+}
+
+// Every shipped reach config loads and places its sections on its raster.
+TEST(ReachConfig, EveryShippedConfigBuilds) {
+  int seen = 0;
+  for (const auto& entry :
+       fs::directory_iterator(std::string(SPILL_SOURCE_DIR) + "/configs/reach")) {
+    if (entry.path().extension() != ".json") continue;
+    const reach::ReachConfig c = reach::load_reach_config(entry.path().string(), {});
+    const reach::ReachModel m = reach::build_reach(c, entry.path().string());
+    EXPECT_GT(m.solver->grid().cells(), 1000u) << entry.path();
+    ++seen;
+  }
+  EXPECT_GE(seen, 1);
+}
