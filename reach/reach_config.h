@@ -23,6 +23,7 @@ struct SeriesConfig {
   std::vector<std::vector<double>> points;  // [[t_s, value], ...]
   std::string file;                         // CSV, relative to the config's folder
   std::string time_format = "seconds";      // "seconds", or a strftime format of a date column
+  std::string from;                         // the file's time that becomes t = 0 (empty: first)
   int time_column = 0, value_column = 1;
   double scale = 1;  // the file's values are multiplied by it
   template <class V>
@@ -33,7 +34,11 @@ struct SeriesConfig {
     v.field("time_format", time_format,
             param("",
                   "How the file's time column reads: \"seconds\" from the start, or a strftime "
-                  "format of a date (e.g. \"%m/%d/%Y %H:%M:%S\"), the first row being t = 0"));
+                  "format of a date (e.g. \"%m/%d/%Y %H:%M:%S\")"));
+    v.field("from", from,
+            param("",
+                  "The file's time (as time_format reads it) that becomes t = 0; empty: its "
+                  "first row"));
     v.field("time_column", time_column, param("", "Column of the time (from 0)").non_negative());
     v.field("value_column", value_column, param("", "Column of the value (from 0)").non_negative());
     v.field("scale", scale, param("", "Factor applied to the file's values").positive());
@@ -73,14 +78,32 @@ struct SectionConfig {
   }
 };
 
+// Water entering through a section of the grid's edge, or released over an area inside it (a
+// river that enters the terrain away from its edge).
 struct InflowConfig {
-  SectionConfig section;
+  std::optional<SectionConfig> section;
+  std::vector<double> area;  // [x_min, y_min, x_max, y_max]
+  std::string name;
   SeriesConfig discharge;
   template <class V>
   void describe(V& v) {
-    v.field("section", section, param("", "Where the water enters").require());
+    v.field("section", section, param("", "Where the water enters through the grid's edge"));
+    v.field("area", area,
+            param("m",
+                  "[x_min, y_min, x_max, y_max] in map coordinates: release the water over the "
+                  "cells whose centres lie inside, with no momentum (instead of `section`)"));
+    v.field("name", name, param("", "Name in reach.json of an area inflow"));
     v.field("discharge", discharge,
             param("m^3/s", "Discharge entering (>= 0), constant or a hydrograph").require());
+  }
+  void check(const std::string& file_name, const std::string& pointer) const {
+    if (section.has_value() == !area.empty())
+      throw ConfigError(file_name, pointer, "give exactly one of section and area");
+    if (!area.empty() && (area.size() != 4 || !(area[2] > area[0]) || !(area[3] > area[1])))
+      throw ConfigError(file_name, pointer + "/area",
+                        "expected [x_min, y_min, x_max, y_max] with max > min");
+    if (!area.empty() && name.empty())
+      throw ConfigError(file_name, pointer + "/name", "an area inflow needs a name");
   }
 };
 
@@ -195,7 +218,8 @@ struct ReachConfig {
     v.field("steady_tolerance", steady_tolerance,
             param("m/s",
                   "Stop early once the RMS rate of depth change over the wet cells falls under "
-                  "this (0: run to end_time)")
+                  "this and the net discharge through the sections is within 1 % of the inflow "
+                  "(0: run to end_time)")
                 .non_negative());
     v.field("cfl", cfl, param("", "Courant number of the time step").positive().at_most(0.5));
     v.field("dry_depth", dry_depth,

@@ -58,6 +58,14 @@ Hydrograph load_series(const SeriesConfig& s, const std::string& config_file,
     std::getline(in, line);  // the header
     int number = 1;
     double first = 0;
+    const bool from_given = !s.from.empty();
+    if (from_given) {
+      const bool ok = s.time_format == "seconds" ? parse_number(s.from, first)
+                                                 : parse_date(s.from, s.time_format, first);
+      if (!ok)
+        throw ConfigError(config_file, pointer + "/from",
+                          "\"" + s.from + "\" does not read as " + s.time_format);
+    }
     while (std::getline(in, line)) {
       ++number;
       if (line.find_first_not_of(" \t\r") == std::string::npos) continue;
@@ -81,7 +89,7 @@ Hydrograph load_series(const SeriesConfig& s, const std::string& config_file,
         throw ConfigError(
             config_file, pointer + "/file",
             where + ": value \"" + cells[size_t(s.value_column)] + "\" is not a number");
-      if (points.empty()) first = t;
+      if (points.empty() && !from_given) first = t;
       points.push_back({t - first, v * s.scale});
     }
     if (points.empty()) throw ConfigError(config_file, pointer + "/file", s.file + ": no rows");

@@ -149,8 +149,19 @@ ShallowWaterSolver::ShallowWaterSolver(ShallowWaterSolver&&) noexcept = default;
 
 void ShallowWaterSolver::add_inflow(InflowBoundary inflow) {
   const int along = west_or_east(inflow.section.side) ? grid_.ny : grid_.nx;
-  if (inflow.section.first < 0 || inflow.section.last >= along ||
-      inflow.section.first > inflow.section.last)
+  std::vector<size_t> open_area;
+  for (size_t c : inflow.area) {
+    if (c >= grid_.cells())
+      throw std::invalid_argument("inflow '" + inflow.name +
+                                  "': a cell of its area is off the grid");
+    if (!closed_[c]) open_area.push_back(c);
+  }
+  if (!inflow.area.empty()) {
+    if (open_area.empty())
+      throw std::invalid_argument("inflow '" + inflow.name + "': its area holds no open cell");
+    inflow.area = open_area;
+  } else if (inflow.section.first < 0 || inflow.section.last >= along ||
+             inflow.section.first > inflow.section.last)
     throw std::invalid_argument("inflow '" + inflow.name + "': its section lies off the grid");
   inflows_.push_back(std::move(inflow));
   section_discharge_.assign(inflows_.size() + outflows_.size(), 0.0);
@@ -250,6 +261,7 @@ double ShallowWaterSolver::stable_dt() const {
   }
   // Water coming in through a dry section moves at its boundary state's speed.
   for (const auto& b : inflows_) {
+    if (!b.area.empty()) continue;  // released inside: it moves at the water's own speed
     std::vector<double> bed, depth, q, hb;
     const double width = west_or_east(b.section.side) ? grid_.dy : grid_.dx;
     for (int k = b.section.first; k <= b.section.last; ++k) {
@@ -413,6 +425,7 @@ void ShallowWaterSolver::rate_of(const WaterState& w, WaterState& rate, double t
     return s.fx[0];
   };
   for (const auto& b : inflows_) {
+    if (!b.area.empty()) continue;
     const bool x_normal = west_or_east(b.section.side);
     const double width = x_normal ? grid_.dy : grid_.dx;
     std::vector<std::pair<int, int>> cells;
@@ -453,7 +466,9 @@ void ShallowWaterSolver::rate_of(const WaterState& w, WaterState& rate, double t
     }
     return total;
   };
-  for (const auto& b : inflows_) step_section_flux_[section++] += weight * section_flux(b.section);
+  for (const auto& b : inflows_)
+    step_section_flux_[section++] +=
+        weight * (b.area.empty() ? section_flux(b.section) : b.discharge.at(t));
   for (const auto& b : outflows_) step_section_flux_[section++] += weight * section_flux(b.section);
 
   // The update: flux differences, pressure corrections and the centred bed-slope term.
@@ -479,6 +494,15 @@ void ShallowWaterSolver::rate_of(const WaterState& w, WaterState& rate, double t
           ((n.flux.normal + n.left_correction) - (so.flux.normal + so.right_correction)) / dy +
           bed_y;
     }
+  release_areas(rate, t);
+}
+
+void ShallowWaterSolver::release_areas(WaterState& rate, double t) const {
+  for (const auto& b : inflows_) {
+    if (b.area.empty()) continue;
+    const double depth_rate = b.discharge.at(t) / (double(b.area.size()) * grid_.cell_area());
+    for (size_t c : b.area) rate.h[c] += depth_rate;
+  }
 }
 
 void ShallowWaterSolver::clean_dry(WaterState& w) {

@@ -43,10 +43,14 @@ struct Section {
 // Water entering through a section: the discharge (m^3/s, >= 0) spread over its cells by their
 // conveyance, depth^(5/3), taking at least the depth at which the section would carry it at
 // critical flow (so that a dry section can take water in).
+// Or, with `area` given, water released over those cells (flat indices) at the discharge, evenly
+// per unit area and with no momentum: a river that enters the grid away from its edge (as
+// BG_Flood and LISFLOOD-FP take a river's inflow).
 struct InflowBoundary {
   Section section;
   Hydrograph discharge;
   std::string name = "inflow";
+  std::vector<size_t> area;
 };
 
 enum class OutflowKind {
@@ -121,6 +125,8 @@ class ShallowWaterSolver {
   // `boundary_flux`.
   void rate_of(const WaterState& u, WaterState& rate, double t, double weight);
   void apply_friction(double dt);
+  // Adds the area inflows' water to `rate` (depth per second over their cells).
+  void release_areas(WaterState& rate, double t) const;
   void clean_dry(WaterState& u);
 
   Grid grid_;

@@ -12,6 +12,7 @@
 //   spill-sim scene-doc
 //   spill-sim reach --config FILE --out DIR [--set /pointer=value ...] [--threads N] [--force]
 //   spill-sim reach-doc
+//   spill-sim reach-bench [--cells N ...] [--steps S] [--threads T]
 
 #include <CLI/CLI.hpp>
 #include <iostream>
@@ -33,7 +34,7 @@ int main(int argc, char** argv) {
       sph::add_run_command(app, context),       sph::add_bench_command(app, context),
       sph::add_generate_command(app, context),  sph::add_compare_command(app, context),
       sph::add_scene_doc_command(app, context), sph::add_reach_command(app, context),
-      sph::add_reach_doc_command(app, context),
+      sph::add_reach_doc_command(app, context), sph::add_reach_bench_command(app, context),
   };
   if (const auto stop = common::parse_command_line(app, argc, argv)) return *stop;
   try {

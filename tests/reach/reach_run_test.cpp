@@ -165,3 +165,23 @@ TEST(ReachConfig, EveryShippedConfigBuilds) {
   }
   EXPECT_GE(seen, 1);
 }
+
+// An area inflow releases its discharge inside the grid: with no outflow, the reach holds
+// exactly what came in, and the released water's level spreads over the bed.
+TEST_F(ReachRun, AnAreaInflowReleasesItsDischargeInside) {
+  nlohmann::json c = config_;
+  c["inflows"] = {{{"name", "river"},
+                   {"area", {1771150, 5472010, 1771250, 5472070}},
+                   {"discharge", {{"value", 2.0}}}}};
+  c["outflows"] = nlohmann::json::array();
+  c["end_time"] = 300;
+  c["output_every"] = 300;
+  c["steady_tolerance"] = 0;
+  const nlohmann::json summary = run(c, "area");
+  const auto& last = summary["frames"].back();
+  EXPECT_NEAR(last["volume_m3"].get<double>(), 2.0 * 300, 1e-9 * 600);
+  EXPECT_DOUBLE_EQ(last["section_discharge_m3_s"]["river"].get<double>(), 2.0);
+  c["inflows"][0]["area"] = {0, 0, 10, 10};
+  std::ofstream(dir_ / "reach.json") << c.dump(2);
+  EXPECT_THROW(run(c, "off"), common::ConfigError);
+}

@@ -261,7 +261,7 @@ TEST(Swashes, UniformFlowSettlesAtTheNormalDepth) {
   for (int j = 0; j < g.ny; ++j)
     for (int i = 0; i < g.nx; ++i) z[g.at(i, j)] = -slope * g.x(i);
   reach::ShallowWaterSolver s(g, z, {n});
-  s.add_inflow({{reach::Side::kWest, 0, g.ny - 1}, reach::Hydrograph(q * width), "upstream"});
+  s.add_inflow({{reach::Side::kWest, 0, g.ny - 1}, reach::Hydrograph(q * width), "upstream", {}});
   reach::OutflowBoundary out;
   out.section = {reach::Side::kEast, 0, g.ny - 1};
   out.kind = reach::OutflowKind::kNormalDepth;

@@ -1,5 +1,6 @@
 // spill-sim reach --config FILE --out DIR [--set /pointer=value ...] [--threads N] [--force]
 // spill-sim reach-doc
+// spill-sim reach-bench [--cells N ...] [--steps S] [--threads T]
 // The depth-averaged flow of a river reach on real terrain (reach/reach_run.h): rasters of
 // depth, level and velocity, the event's maxima, map pictures and reach.json.
 
@@ -9,8 +10,10 @@
 #include <memory>
 
 #include "common/command_line.h"
+#include "reach/reach_benchmark.h"
 #include "reach/reach_run.h"
 #include "sph/app/commands/command.h"
+#include "sph/app/scene_runner.h"
 
 namespace sph {
 
@@ -53,6 +56,29 @@ Command add_reach_command(CLI::App& app, const CommandContext& context) {
                       << (summary["steady"]["reached"].get<bool>() ? " (steady)" : "")
                       << ", volume balance error " << summary["volume_balance"]["error_m3"]
                       << " m3\n";
+            return 0;
+          }};
+}
+
+Command add_reach_bench_command(CLI::App& app, const CommandContext&) {
+  auto cells = std::make_shared<std::vector<long>>(std::vector<long>{62500, 125000, 250000});
+  auto steps = std::make_shared<int>(200);
+  auto threads = std::make_shared<int>(0);
+  auto* c = app.add_subcommand(
+      "reach-bench",
+      "Time the reach's shallow-water solver on straight valleys of growing size; print JSON");
+  c->add_option("--cells", *cells, "Cell counts to time (default 62500 125000 250000)");
+  c->add_option("--steps", *steps, "Steps timed per size (after 20 untimed)")
+      ->check(common::positive());
+  c->add_option("--threads", *threads, "OpenMP threads (default: all cores)")
+      ->check(common::positive());
+  return {c, [cells, steps, threads] {
+            const int used = use_threads(*threads);
+            const nlohmann::json out = {
+                {"benchmark", "reach shallow water (reach/reach_benchmark.h)"},
+                {"machine", machine_description(used)},
+                {"rows", reach::benchmark_reach(*cells, *steps, 20)}};
+            std::cout << out.dump(2) << "\n";
             return 0;
           }};
 }
