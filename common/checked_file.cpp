@@ -3,6 +3,8 @@
 #include <cerrno>
 #include <cstring>
 #include <fstream>
+#include <iterator>
+#include <stdexcept>
 #include <system_error>
 
 namespace common {
@@ -44,6 +46,14 @@ void append_to_file(const std::filesystem::path& file, const std::string& conten
   if (out) out.flush();
   out.close();
   if (!out) throw WriteError(file.string() + ": cannot append (" + reason() + ")");
+}
+
+std::string read_whole_file(const std::filesystem::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  if (!in) throw std::runtime_error(file.string() + ": cannot be read");
+  std::string content((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  if (in.bad()) throw std::runtime_error(file.string() + ": reading failed");
+  return content;
 }
 
 }  // namespace common

@@ -21,4 +21,8 @@ void write_file_atomically(const std::filesystem::path& file, const std::string&
 
 void append_to_file(const std::filesystem::path& file, const std::string& content);
 
+// The whole content of `file`, bytes as they are; throws std::runtime_error naming the file when
+// it cannot be read.
+std::string read_whole_file(const std::filesystem::path& file);
+
 }  // namespace common

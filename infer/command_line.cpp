@@ -11,6 +11,23 @@ const char* const kReplayHelp =
 const char* const kVtkHelp =
     "write VTK (ParaView) point files per frame in vtk/ with a fluid.pvd collection";
 
+// --relax: the same option, meaning and range on every command that rolls a model out.
+void add_relax_option(CLI::App* c, int& relax) {
+  c->add_option("--relax", relax,
+                "after each learned frame, this many iterations of the simulator's "
+                "constant-density correction on the predicted positions (default 0: off; at "
+                "most 100)")
+      ->check(common::whole_number_in(0, 100));
+}
+
+// --blas-threads beside --threads, for the commands that run one model.
+void add_blas_threads_option(CLI::App* c, int& blas_threads) {
+  c->add_option("--blas-threads", blas_threads,
+                "OpenBLAS threads, with --threads LibTorch threads (default: the measured best "
+                "split for the model)")
+      ->check(common::positive());
+}
+
 void add_common(CLI::App* c, CommonOptions& o) {
   c->add_option("--checkpoint", o.checkpoint, "checkpoint (*.pt) written by spill-train")
       ->required();
@@ -24,16 +41,9 @@ void add_common(CLI::App* c, CommonOptions& o) {
                 "cores to use; the LibTorch/BLAS split is chosen for the model (see "
                 "inference_runtime in gnn/runtime/runtime.h) unless --blas-threads is given")
       ->check(common::positive());
-  c->add_option("--blas-threads", o.blas_threads,
-                "OpenBLAS threads, with --threads LibTorch threads (default: the measured best "
-                "split for the model)")
-      ->check(common::positive());
+  add_blas_threads_option(c, o.blas_threads);
   c->add_option("--device", o.device, "where the model runs: cpu (default) or cuda[:N]");
-  c->add_option("--relax", o.relax,
-                "after each learned frame, this many iterations of the simulator's "
-                "constant-density correction on the predicted positions (default 0: off; at "
-                "most 100)")
-      ->check(common::whole_number_in(0, 100));
+  add_relax_option(c, o.relax);
   c->add_flag("--replay-recorded-sources", o.replay_recorded_sources, kReplayHelp);
 }
 }  // namespace
@@ -92,11 +102,7 @@ CLI::App* add_compare_command(CLI::App& app, CompareOptions& compare) {
   c->add_option("--blas-threads", compare.blas_threads, "OpenBLAS threads for every model")
       ->check(common::positive());
   c->add_option("--device", compare.device, "where the models run: cpu (default) or cuda[:N]");
-  c->add_option("--relax", compare.relax,
-                "after each learned frame, this many iterations of the simulator's "
-                "constant-density correction on the predicted positions (default 0: off; at "
-                "most 100)")
-      ->check(common::whole_number_in(0, 100));
+  add_relax_option(c, compare.relax);
   c->add_flag("--replay-recorded-sources", compare.replay_recorded_sources, kReplayHelp);
   return c;
 }
@@ -121,16 +127,9 @@ CLI::App* add_predict_command(CLI::App& app, PredictOptions& o) {
       ->check(common::positive());
   p->add_flag("--png", o.png, "write side-, top- and river-view pictures of every frame");
   p->add_flag("--vtk", o.vtk, kVtkHelp);
-  p->add_option("--relax", o.relax,
-                "after each learned frame, this many iterations of the simulator's "
-                "constant-density correction on the predicted positions (default 0: off; at "
-                "most 100)")
-      ->check(common::whole_number_in(0, 100));
+  add_relax_option(p, o.relax);
   p->add_option("--threads", o.threads, "cores to use (default 2)")->check(common::positive());
-  p->add_option("--blas-threads", o.blas_threads,
-                "OpenBLAS threads, with --threads LibTorch threads (default: the measured best "
-                "split for the model)")
-      ->check(common::positive());
+  add_blas_threads_option(p, o.blas_threads);
   return p;
 }
 

@@ -18,11 +18,6 @@ namespace fs = std::filesystem;
 
 namespace {
 
-std::string read_bytes(const fs::path& file) {
-  std::ifstream in(file, std::ios::binary);
-  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-}
-
 // A figure with three significant digits; "-" for a null (not defined for this data).
 std::string figure(const nlohmann::json& row, const char* key) {
   const auto it = row.find(key);
@@ -51,7 +46,8 @@ common::PlotPanel by_frame_panel(const nlohmann::json& models, const char* key, 
 }  // namespace
 
 void write_compare_report(const fs::path& folder) {
-  const nlohmann::json c = nlohmann::json::parse(read_bytes(folder / "comparison.json"));
+  const nlohmann::json c =
+      nlohmann::json::parse(common::read_whole_file(folder / "comparison.json"));
   const nlohmann::json& models = c["models"];
   const double frame_dt = c.value("frame_dt", 1.0);
   common::HtmlReport report("Learned simulators compared on " + c.value("data", std::string()));
@@ -101,7 +97,7 @@ void write_compare_report(const fs::path& folder) {
     report.paragraph(
         "Flow down the picture; one column per moment; the first row is the simulator, then one "
         "row per model in the order of the table; oil where the oil fraction is at least 1/2.");
-    report.picture(read_bytes(folder / "comparison.png"), "comparison");
+    report.picture(common::read_whole_file(folder / "comparison.png"), "comparison");
   }
   common::write_file_atomically(folder / "report.html", report.html());
 }

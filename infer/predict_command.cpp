@@ -111,12 +111,7 @@ int first_predicted_frame(const sph::Simulation& sim, const sph::LoadedScene& sc
 // --relax: that many iterations of the scene's density correction on every learned frame.
 gnn::FrameCorrection relaxation_hook(const sph::SceneConfig& scene, int iterations) {
   if (iterations <= 0) return {};
-  auto relaxation = std::make_shared<sph::DensityRelaxation>(scene);
-  return [relaxation, iterations](torch::Tensor& position, const torch::Tensor& fraction) {
-    auto x = gnn::vectors_of(position);
-    relaxation->relax(x, gnn::reals_of(fraction), iterations);
-    position = gnn::tensor_of(x);
-  };
+  return gnn::relaxation_correction(std::make_shared<sph::DensityRelaxation>(scene), iterations);
 }
 
 // spill-sim run's metadata.json, saying which model predicted it.

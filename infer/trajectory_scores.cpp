@@ -215,11 +215,10 @@ gnn::FrameCorrection relaxation_hook(gnn::SpillScene* scene, int iterations) {
     throw common::InputError("--relax " + std::to_string(iterations) +
                              ": the dataset carries no scene the simulator accepts, so there is "
                              "no density correction to relax with");
-  return [scene, iterations](torch::Tensor& position, const torch::Tensor& fraction) {
-    auto x = gnn::vectors_of(position);
-    scene->relaxation().relax(x, gnn::reals_of(fraction), iterations);
-    position = gnn::tensor_of(x);
-  };
+  // The scene owns its relaxation and outlives the rollout: the hook holds it without owning it.
+  return gnn::relaxation_correction(
+      std::shared_ptr<sph::DensityRelaxation>(std::shared_ptr<void>(), &scene->relaxation()),
+      iterations);
 }
 
 std::unique_ptr<gnn::SpillScene> spill_scene_of(const gnn::Trajectory& t, std::ostream* log) {

@@ -51,6 +51,15 @@ sph::DensityRelaxation& SpillScene::relaxation() {
   return *relaxation_;
 }
 
+FrameCorrection relaxation_correction(std::shared_ptr<sph::DensityRelaxation> relaxation,
+                                      int iterations) {
+  return [relaxation, iterations](torch::Tensor& position, const torch::Tensor& fraction) {
+    auto x = vectors_of(position);
+    relaxation->relax(x, reals_of(fraction), iterations);
+    position = tensor_of(x);
+  };
+}
+
 std::vector<sph::Vec3> vectors_of(const torch::Tensor& position) {
   const auto x = position.to(torch::kFloat64).contiguous();
   const double* p = x.data_ptr<double>();

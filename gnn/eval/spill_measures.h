@@ -9,6 +9,7 @@
 #include <memory>
 
 #include "gnn/data/dataset.h"
+#include "gnn/eval/rollout.h"
 #include "sph/core/particle_set.h"
 #include "sph/river/spill_metrics.h"
 #include "sph/scene/scene.h"
@@ -26,6 +27,11 @@ sph::FluidParticles fluid_of_frame(const torch::Tensor& position, const torch::T
 std::vector<sph::Vec3> vectors_of(const torch::Tensor& position);
 std::vector<sph::Real> reals_of(const torch::Tensor& values);
 torch::Tensor tensor_of(const std::vector<sph::Vec3>& vectors);
+
+// A frame correction that moves each learned frame's positions by `iterations` of the
+// simulator's constant-density correction (`relaxation` is kept alive by the hook).
+FrameCorrection relaxation_correction(std::shared_ptr<sph::DensityRelaxation> relaxation,
+                                      int iterations);
 
 // What the scene of a trajectory says about its particles and its river.
 class SpillScene {

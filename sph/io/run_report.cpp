@@ -19,14 +19,9 @@ namespace fs = std::filesystem;
 
 namespace {
 
-std::string read_bytes(const fs::path& file) {
-  std::ifstream in(file, std::ios::binary);
-  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-}
-
 nlohmann::json read_json(const fs::path& file) {
   if (!fs::exists(file)) return nlohmann::json::object();
-  return nlohmann::json::parse(read_bytes(file), nullptr, /*allow_exceptions=*/false);
+  return nlohmann::json::parse(common::read_whole_file(file), nullptr, /*allow_exceptions=*/false);
 }
 
 std::string number(double v, const char* format = "%.3g") {
@@ -65,7 +60,7 @@ std::vector<common::SliderFrame> slider_frames(const std::map<int, fs::path>& fi
   std::vector<common::SliderFrame> frames;
   for (size_t k = 0; k < all.size(); ++k)
     if (k % stride == 0 || k + 1 == all.size())
-      frames.push_back({double(all[k].first) * frame_dt, read_bytes(all[k].second)});
+      frames.push_back({double(all[k].first) * frame_dt, common::read_whole_file(all[k].second)});
   return frames;
 }
 
@@ -140,7 +135,7 @@ void write_run_report(const fs::path& folder) {
   add_spill_tables(report, spill);
   if (fs::exists(folder / "spill.svg")) {
     report.heading("Spill metrics over time");
-    report.svg(read_bytes(folder / "spill.svg"));
+    report.svg(common::read_whole_file(folder / "spill.svg"));
   }
   report.details("Scene settings (as run, with defaults filled in)", scene.dump(2));
   common::write_file_atomically(folder / "report.html", report.html());

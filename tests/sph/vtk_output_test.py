@@ -75,13 +75,19 @@ def decode_array(element, where):
     return list(struct.unpack(f"<{count // size}{code}", raw[4:]))
 
 
-def read_vtp(path):
-    """{"n": points, "points": [x, y, z, ...], "arrays": {name: (type, components, values)}}."""
+def parse_vtk_xml(path, kind):
+    """The root of a VTK XML file of type `kind`, or CheckFailed naming the file."""
     try:
         root = ET.parse(path).getroot()
     except ET.ParseError as e:
         raise CheckFailed(f"{path}: not well-formed XML ({e})")
-    require(root.tag == "VTKFile" and root.get("type") == "PolyData", f"{path}: not PolyData")
+    require(root.tag == "VTKFile" and root.get("type") == kind, f"{path}: not {kind}")
+    return root
+
+
+def read_vtp(path):
+    """{"n": points, "points": [x, y, z, ...], "arrays": {name: (type, components, values)}}."""
+    root = parse_vtk_xml(path, "PolyData")
     require(root.get("byte_order") == "LittleEndian", f"{path}: byte_order")
     require(root.get("header_type") == "UInt32", f"{path}: header_type")
     pieces = root.findall("./PolyData/Piece")
@@ -120,11 +126,7 @@ def read_vtp(path):
 
 def read_pvd(path):
     """[(time, file)] in the collection's order."""
-    try:
-        root = ET.parse(path).getroot()
-    except ET.ParseError as e:
-        raise CheckFailed(f"{path}: not well-formed XML ({e})")
-    require(root.tag == "VTKFile" and root.get("type") == "Collection", f"{path}: not Collection")
+    root = parse_vtk_xml(path, "Collection")
     out = []
     for d in root.findall("./Collection/DataSet"):
         require(d.get("part") == "0", f"{path}: DataSet part {d.get('part')}")
