@@ -6,7 +6,11 @@
 //   teacher:  spill-train --teacher with a fitting teacher, a teacher of another model or size,
 //             a damaged, missing or folder checkpoint, and student sizes drawn;
 //   export:   spill-infer export from good, damaged and missing checkpoints onto new paths,
-//             existing checkpoints and other files, with and without --force.
+//             existing checkpoints and other files, with and without --force;
+//   predict:  spill-infer predict of the tank scene with good, missing and other models'
+//             checkpoints, end times, relaxation counts and scene overrides drawn;
+//   reach:    spill-sim reach of a small channel raster with discharges, windows, sections,
+//             CRSs, times and unknown keys drawn.
 // Every case must end in exit 0, 1 or 2 (with an "error:" line when it fails), within the time
 // bound, with no signal, and leave nothing but its inputs when it fails; a refused export leaves
 // its target byte for byte as it was. Prints a JSON summary; exits 1 when a case misbehaved.
@@ -215,10 +219,72 @@ Case export_case(const Paths& p, const fs::path& dir, std::mt19937_64& rng) {
   return {c, "spill-infer export: " + what, inputs, guarded};
 }
 
+Case predict_case(const Paths& p, const fs::path& dir, std::mt19937_64& rng) {
+  const std::string checkpoint =
+      rng() % 10 < 7 ? (p.intact / "run" / "last.pt").string()
+                     : pick<std::string>({(p.intact / "pagat" / "last.pt").string(),
+                                          (dir / "missing.pt").string(), p.intact.string()},
+                                         rng);
+  Args c = {p.infer,        "predict",
+            "--checkpoint", checkpoint,
+            "--scene",      (p.intact / "tank.json").string(),
+            "--out",        (dir / "out").string(),
+            "--threads",    "1"};
+  std::string what = "spill-infer predict " + fs::path(checkpoint).filename().string();
+  if (rng() % 2) {
+    const std::string end = good_or_bad({"0.06", "0.1"}, {"0", "-1", "abc", "0.001"}, rng);
+    c.insert(c.end(), {"--end-time", end});
+    what += " --end-time " + end;
+  }
+  if (rng() % 3 == 0) {
+    const std::string relax = good_or_bad({"0", "2"}, {"-1", "101", "abc", "1.5"}, rng);
+    c.insert(c.end(), {"--relax", relax});
+    what += " --relax " + relax;
+  }
+  if (rng() % 3 == 0) {
+    const std::string set = pick<std::string>(
+        {"/output/frame_dt=0.04", "/particle_radius=0.03", "/end_time=0.08", "/solver=none"}, rng);
+    c.insert(c.end(), {"--set", set});
+    what += " --set " + set;
+  }
+  return {c, what, {}, {}};
+}
+
+Case reach_case(const Paths& p, const fs::path& dir, std::mt19937_64& rng) {
+  Args c = {p.sim,       "reach",
+            "--config",  (p.intact / "reach.json").string(),
+            "--out",     (dir / "out").string(),
+            "--threads", "1",
+            "--set"};
+  const std::vector<std::string> good = {"/end_time=60", "/inflows/0/discharge/value=0.5",
+                                         "/terrain/coarsen=2", "/output_every=20",
+                                         "/terrain/manning=0.05"};
+  const std::vector<std::string> bad = {"/end_time=-1",
+                                        "/inflows/0/discharge/value=-3",
+                                        "/terrain/window=[0,0,1,1]",
+                                        "/terrain/crs=EPSG:4326",
+                                        "/terrain/crs=nonsense",
+                                        "/terrain/file=missing.tif",
+                                        "/inflows/0/section/from=-100",
+                                        "/outflows/0/kind=weir",
+                                        "/cfl=0.9",
+                                        "/terrain/coarsen=0",
+                                        "/terrain/manning=abc",
+                                        "/unknown_key=1"};
+  std::string what = "spill-sim reach --set";
+  const int n = 1 + int(rng() % 3);
+  for (int k = 0; k < n; ++k) {
+    c.push_back(good_or_bad(good, bad, rng));
+    what += " " + c.back();
+  }
+  return {c, what, {}, {}};
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
-  CLI::App app{"Command fuzzer for compare, spill-train --scene and --teacher, and export"};
+  CLI::App app{
+      "Command fuzzer for compare, spill-train --scene and --teacher, export, predict and reach"};
   Paths p;
   std::string work;
   int cases = 120;
@@ -246,6 +312,24 @@ int main(int argc, char** argv) {
     "name": "tank", "particle_radius": 0.02, "end_time": 0.16, "output": {"frame_dt": 0.02},
     "boxes": [{"min": [0, 0, 0], "max": [0.4, 0.4, 0.4]}],
     "fluid_blocks": [{"min": [0, 0, 0], "max": [0.2, 0.2, 0.2], "velocity": [0, 0, 0]}]})";
+  // A channel 200 m long falling to the west between banks, as an ESRI ASCII grid (no CRS in it:
+  // the config names one), and its reach config.
+  {
+    std::ofstream asc(p.intact / "channel.asc");
+    asc << "ncols 20\nnrows 6\nxllcorner 1771000\nyllcorner 5472000\ncellsize 10\n";
+    for (int row = 0; row < 6; ++row) {
+      for (int i = 0; i < 20; ++i)
+        asc << (0.001 * (10 * i + 5) + ((row == 0 || row == 5) ? 2.0 : 0.0)) << " ";
+      asc << "\n";
+    }
+  }
+  std::ofstream(p.intact / "reach.json") << R"({
+    "name": "channel", "terrain": {"file": "channel.asc", "crs": "EPSG:2193"},
+    "inflows": [{"section": {"name": "up", "side": "east", "from": 5472010, "to": 5472050},
+                 "discharge": {"value": 2}}],
+    "outflows": [{"section": {"name": "down", "side": "west", "from": 5472010, "to": 5472050},
+                  "kind": "normal_depth", "slope": 0.001}],
+    "end_time": 120, "output_every": 60})";
   const double limit = memory_mb * 1048576.0;
   const Args steps = {"--threads",        "1", "--set", "/steps=4", "/checkpoint_every=4",
                       "/validate_every=4"};
@@ -276,11 +360,13 @@ int main(int argc, char** argv) {
   for (int c = 0; c < cases; ++c) {
     const fs::path dir = fs::path(work) / ("case_" + std::to_string(c));
     fs::create_directories(dir);
-    const int kind = c % 4;  // each surface in turn
+    const int kind = c % 6;  // each surface in turn
     Case k = kind == 0   ? compare_case(p, dir, rng)
              : kind == 1 ? scene_case(p, dir, rng)
              : kind == 2 ? teacher_case(p, dir, rng)
-                         : export_case(p, dir, rng);
+             : kind == 3 ? export_case(p, dir, rng)
+             : kind == 4 ? predict_case(p, dir, rng)
+                         : reach_case(p, dir, rng);
     const std::string guarded_before =
         k.unchanged_on_failure.empty() ? "" : read_bytes(k.unchanged_on_failure);
     std::ofstream(dir / "case.txt") << k.what << "\n";  // what was done, for a look
