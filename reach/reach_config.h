@@ -201,7 +201,7 @@ struct ReachConfig {
   std::vector<OutflowConfig> outflows;
   std::optional<double> initial_level;
   double end_time = 3600, output_every = 600;
-  double steady_tolerance = 0;
+  double steady_tolerance = 0, steady_window = 600;
   double cfl = 0.45, dry_depth = 1e-4, max_dt = 10;
   template <class V>
   void describe(V& v) {
@@ -217,10 +217,13 @@ struct ReachConfig {
             param("s", "Interval of the rasters and pictures written").positive());
     v.field("steady_tolerance", steady_tolerance,
             param("m/s",
-                  "Stop early once the RMS rate of depth change over the wet cells falls under "
-                  "this and the net discharge through the sections is within 1 % of the inflow "
-                  "(0: run to end_time)")
+                  "Stop early once the RMS rate of depth change over the cells deeper than 1 cm "
+                  "falls under "
+                  "this and the net discharge through the sections is within 1 % of the inflow, "
+                  "both for steady_window (0: run to end_time)")
                 .non_negative());
+    v.field("steady_window", steady_window,
+            param("s", "How long the steady-state conditions must hold").positive());
     v.field("cfl", cfl, param("", "Courant number of the time step").positive().at_most(0.5));
     v.field("dry_depth", dry_depth,
             param("m", "Shallower water holds no velocity and counts as dry").positive());
