@@ -217,13 +217,13 @@ struct ReachConfig {
             param("s", "Interval of the rasters and pictures written").positive());
     v.field("steady_tolerance", steady_tolerance,
             param("m/s",
-                  "Stop early once the RMS rate of depth change over the cells deeper than 1 cm "
-                  "falls under "
-                  "this and the net discharge through the sections is within 1 % of the inflow, "
-                  "both for steady_window (0: run to end_time)")
+                  "Stop early once the depths drift slower than this (the RMS over the cells "
+                  "deeper than 1 cm of their change over steady_window, divided by it) and the "
+                  "net discharge through the sections is within 1 % of the inflow (0: run to "
+                  "end_time)")
                 .non_negative());
     v.field("steady_window", steady_window,
-            param("s", "How long the steady-state conditions must hold").positive());
+            param("s", "The interval over which the steady-state residual is measured").positive());
     v.field("cfl", cfl, param("", "Courant number of the time step").positive().at_most(0.5));
     v.field("dry_depth", dry_depth,
             param("m", "Shallower water holds no velocity and counts as dry").positive());

@@ -351,8 +351,8 @@ nlohmann::json run_reach(const ReachRunOptions& o) {
   track_maxima();
   write_frame();
   bool steady = false;
-  double calm_since = 0;  // since when the residual and the balance have held
-  Field previous;
+  Field window_depth = solver.state().h;  // the depths at the start of the residual's window
+  double window_start = solver.time();
   // Steady also needs what leaves to match what enters, to 1 % of the inflow (a filling
   // floodplain can hold the depth's rate low for a while).
   const auto balanced = [&] {
@@ -372,21 +372,9 @@ nlohmann::json run_reach(const ReachRunOptions& o) {
         throw std::runtime_error("the reach's time step fell to " + std::to_string(dt) +
                                  " s at t = " + std::to_string(solver.time()) + " s");
       if (target - solver.time() - dt < 1e-9 * target) dt = target - solver.time();
-      previous = solver.state().h;
       solver.step(dt);
       ++steps;
       if (target - solver.time() < 1e-9 * target) solver.set_time(target);
-      double sum = 0;
-      long wet = 0;
-      // Over the cells deeper than 1 cm: a film at the wet edge that wets and dries by turns
-      // would hold the figure up long after the flow has settled.
-      for (size_t c = 0; c < cells; ++c)
-        if (solver.state().h[c] > kResidualDepth) {
-          const double rate = (solver.state().h[c] - previous[c]) / dt;
-          sum += rate * rate;
-          ++wet;
-        }
-      residual = wet > 0 ? std::sqrt(sum / double(wet)) : 0.0;
       track_maxima();
       if (o.stop && o.stop->load()) throw common::Interrupted("interrupted; nothing written");
       if (steps % 50 == 0) {
@@ -395,10 +383,25 @@ nlohmann::json run_reach(const ReachRunOptions& o) {
                       dt, residual);
         progress.update(long(solver.time()), detail);
       }
-      if (!(residual < config.steady_tolerance) || !balanced()) calm_since = solver.time();
-      if (config.steady_tolerance > 0 && solver.time() - calm_since >= config.steady_window) {
-        steady = true;
-        break;
+      // The steady-state residual: how fast the depths drift, from the state one window ago
+      // (oscillations within the window, a film wetting and drying at the edge, do not count).
+      if (solver.time() - window_start >= config.steady_window) {
+        double sum = 0;
+        long deep = 0;
+        const double span = solver.time() - window_start;
+        for (size_t c = 0; c < cells; ++c)
+          if (solver.state().h[c] > kResidualDepth) {
+            const double rate = (solver.state().h[c] - window_depth[c]) / span;
+            sum += rate * rate;
+            ++deep;
+          }
+        residual = deep > 0 ? std::sqrt(sum / double(deep)) : 0.0;
+        window_depth = solver.state().h;
+        window_start = solver.time();
+        if (config.steady_tolerance > 0 && residual < config.steady_tolerance && balanced()) {
+          steady = true;
+          break;
+        }
       }
     }
     write_frame();

@@ -45,7 +45,7 @@ class ReachRun : public ::testing::Test {
                    {{"name", "downstream"}, {"side", "west"}, {"from", 5472010}, {"to", 5472070}}},
                   {"kind", "normal_depth"},
                   {"slope", 0.001}}}},
-               {"end_time", 3000},
+               {"end_time", 7200},
                {"output_every", 1000},
                {"steady_tolerance", 1e-6}};
   }
