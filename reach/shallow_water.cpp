@@ -92,6 +92,7 @@ struct ShallowWaterSolver::Scratch {
   Field yn_h, yn_z, ys_h, ys_z;  // y reconstruction: north and south face values
   Field yn_u, yn_v, ys_u, ys_v;
   std::vector<FaceFlux> fx, fy;  // faces: (nx + 1) x ny and nx x (ny + 1)
+  WaterState rate, first;        // a step's rate of change and its first stage
   size_t at(int i, int j) const { return size_t(j + kGhost) * size_t(px) + size_t(i + kGhost); }
   size_t fx_at(int f, int j) const { return size_t(j) * size_t(nx + 1) + size_t(f); }
   size_t fy_at(int i, int f) const { return size_t(f) * size_t(nx) + size_t(i); }
@@ -103,6 +104,12 @@ struct ShallowWaterSolver::Scratch {
       f->assign(n, 0.0);
     fx.assign(size_t(nx + 1) * size_t(ny), {});
     fy.assign(size_t(nx) * size_t(ny + 1), {});
+    const size_t cells = size_t(nx) * size_t(ny);
+    for (WaterState* w : {&rate, &first}) {
+      w->h.assign(cells, 0.0);
+      w->hu.assign(cells, 0.0);
+      w->hv.assign(cells, 0.0);
+    }
   }
 };
 
@@ -536,7 +543,10 @@ void ShallowWaterSolver::step(double dt) {
                                 std::to_string(dt));
   const size_t n = grid_.cells();
   step_section_flux_.assign(inflows_.size() + outflows_.size(), 0.0);
-  WaterState rate{Field(n), Field(n), Field(n)};
+  // Kept between steps: a fresh 24-byte-per-cell allocation each step went back to the OS and
+  // came again as page faults (glibc returns large blocks), a third of a step's time.
+  WaterState& rate = scratch_->rate;
+  WaterState& first = scratch_->first;
   const auto euler = [&](const WaterState& from, WaterState& to) {
     for (size_t c = 0; c < n; ++c) {
       to.h[c] = from.h[c] + dt * rate.h[c];
@@ -549,7 +559,6 @@ void ShallowWaterSolver::step(double dt) {
     euler(state_, state_);
     clean_dry(state_);
   } else {
-    WaterState first = state_;
     rate_of(state_, rate, time_, 0.5);
     euler(state_, first);
     clean_dry(first);
