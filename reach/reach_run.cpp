@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <limits>
 
+#include "common/axis_ticks.h"
 #include "common/checked_file.h"
 #include "common/output_folder.h"
 #include "common/progress.h"
@@ -75,15 +76,6 @@ std::vector<char> closed_cells(const Raster& r) {
   std::vector<char> closed(r.grid.cells());
   for (size_t c = 0; c < closed.size(); ++c) closed[c] = std::isnan(r.values[c]);
   return closed;
-}
-
-// The 1-2-5 value at or above `v` (for fixed picture scales that only grow).
-double round_up_125(double v) {
-  if (!(v > 0)) return 1.0;
-  const double decade = std::pow(10.0, std::floor(std::log10(v)));
-  for (double m : {1.0, 2.0, 5.0, 10.0})
-    if (m * decade >= v * (1 - 1e-12)) return m * decade;
-  return 10 * decade;
 }
 
 // The depth below which a cell does not count in the steady-state residual (m).
@@ -242,10 +234,14 @@ nlohmann::json run_reach(const ReachRunOptions& o) {
     return r;
   };
 
+  // The pictures' depth and arrow scales: a 1-2-5 value at or above the figure, 1 when it is 0.
+  const auto scale_step = [](double v) { return v > 0 ? common::round_up_to_125(v) : 1.0; };
+  const std::vector<char> closed = closed_cells(model.terrain);
+
   // Sections' cells, so that water against a wall of the grid's edge can be told apart.
   std::vector<char> in_section(cells, 0);
   const auto mark = [&](const SectionConfig& sc) {
-    const Section s = section_of(sc, g, closed_cells(model.terrain), o.config_file, "");
+    const Section s = section_of(sc, g, closed, o.config_file, "");
     for (int k = s.first; k <= s.last; ++k) {
       switch (s.side) {
         case Side::kWest:
@@ -305,13 +301,13 @@ nlohmann::json run_reach(const ReachRunOptions& o) {
       write_geotiff((dir / name).string(), raster_of(*values));
       files[what] = name;
     }
-    depth_scale = std::max(depth_scale, round_up_125(deepest));
+    depth_scale = std::max(depth_scale, scale_step(deepest));
     // The arrows' scale: the 95th percentile of the speed where the water is deeper than 10 cm
     // (a thin wetting front runs fast and would shrink every other arrow).
     if (!speeds.empty()) {
       const size_t k = speeds.size() * 95 / 100;
       std::nth_element(speeds.begin(), speeds.begin() + long(k), speeds.end());
-      speed_scale = std::max(speed_scale, round_up_125(speeds[k]));
+      speed_scale = std::max(speed_scale, scale_step(speeds[k]));
     }
     files["map"] = "png/map_" + t + ".png";
     common::write_png(
