@@ -407,6 +407,12 @@ nlohmann::json run_reach(const ReachRunOptions& o) {
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   progress.finish("done");
 
+  // The bed the flow ran on (coarsened, carved; NaN where closed), which a near field inside the
+  // reach takes as its terrain (reach/near_field_window.h).
+  Field bed = solver.bed();
+  for (size_t c = 0; c < cells; ++c)
+    if (solver.closed(c)) bed[c] = nan;
+  write_geotiff((dir / "bed.tif").string(), raster_of(bed));
   write_geotiff((dir / "max_depth.tif").string(), raster_of(max_depth));
   write_geotiff((dir / "max_level.tif").string(), raster_of(max_level));
   common::write_png((dir / "map.png").string(),
@@ -458,7 +464,8 @@ nlohmann::json run_reach(const ReachRunOptions& o) {
         {"rasters",
          "rasters/depth, level (water surface, NaN where dry), velocity_x, velocity_y "
          "(m/s, east and north) at each output time; max_depth.tif and max_level.tif "
-         "over the whole run; all GeoTIFF in the terrain's CRS"}}}};
+         "over the whole run; bed.tif, the bed the flow ran on (coarsened, carved); all "
+         "GeoTIFF in the terrain's CRS"}}}};
   common::write_file_atomically(dir / "reach.json", summary.dump(2) + "\n");
   out.commit();
   return summary;

@@ -5,6 +5,7 @@
 // declares its parameters once and its own cross-field checks (check()); SceneConfig aggregates
 // them.
 
+#include <algorithm>
 #include <optional>
 #include <string>
 #include <vector>
@@ -55,8 +56,51 @@ struct RiverGeneratorConfig {
   }
 };
 
-// Terrain of a river scene: from a height map or the built-in generator; optionally filled with
-// water at rest up to `water_level` where the water mask says so.
+// A near field inside a reach run (`spill-sim reach`): a box at the leak site, turned to run with
+// the river, whose terrain, water and inflow come from the run (sph/river/reach_terrain.h).
+struct ReachWindowConfig {
+  std::string run;
+  Real time = -1;
+  std::vector<double> centre;
+  Real length = 0;
+  Real width = 0;
+  Real heading = -1;
+  Real cell_size = Real(0.05);
+  Real min_depth = Real(0.01);
+  template <class V>
+  void describe(V& v) {
+    v.field(
+        "run", run,
+        param("", "Folder of a finished reach run, relative to the scene file's folder").require());
+    v.field("time", time,
+            param("s", "Output time of the run whose water is used; -1: its last").at_least(-1));
+    v.field("centre", centre,
+            param("m", "[east, north]: the box's centre in the run's map coordinates").require());
+    v.field("length", length, param("m", "Length of the box along the flow").positive().require());
+    v.field("width", width, param("m", "Width of the box across the flow").positive().require());
+    v.field("heading", heading,
+            param("deg",
+                  "Compass bearing (clockwise from north) of the box's +x; -1: the direction "
+                  "of the reach's mean flow around the centre")
+                .at_least(-1)
+                .at_most(360));
+    v.field("cell_size", cell_size,
+            param("m", "Spacing of the terrain grid sampled from the reach").positive());
+    v.field("min_depth", min_depth,
+            param("m", "Reach water shallower than this is dry land in the near field").positive());
+  }
+  void check(const std::string& file, const std::string& pointer) const {
+    if (centre.size() != 2) throw ConfigError(file, pointer + "/centre", "expected [east, north]");
+    if (heading < 0 && heading != -1)
+      throw ConfigError(file, pointer + "/heading", "expected -1 or a bearing from 0 to 360");
+    if (!(cell_size <= Real(0.1) * std::min(length, width)))
+      throw ConfigError(file, pointer + "/cell_size",
+                        "expected at most a tenth of the box's length and width");
+  }
+};
+
+// Terrain of a river scene: from a height map, the built-in generator or a reach run; optionally
+// filled with water at rest up to `water_level` where the water mask says so.
 struct TerrainConfig {
   std::string source = "river";
   std::string file;
@@ -66,6 +110,7 @@ struct TerrainConfig {
   Real z_min = 0;
   Real z_max = 1;
   RiverGeneratorConfig river;
+  std::optional<ReachWindowConfig> reach;
   bool fill_water = false;
   Real water_level = 0;
   Vec3 fill_velocity = Vec3::Zero();
@@ -74,8 +119,9 @@ struct TerrainConfig {
     v.field("source", source,
             param("",
                   "river: the built-in generator; asc: an ESRI ASCII grid; png: a grayscale "
-                  "height map (8 or 16 bit)")
-                .one_of({"river", "asc", "png"}));
+                  "height map (8 or 16 bit); reach: a box inside a reach run (the key reach), "
+                  "which also sets water_level, fill_velocity and flow/speed")
+                .one_of({"river", "asc", "png", "reach"}));
     v.field("file", file,
             param("", "Height map file (asc, png), relative to the scene file's folder"));
     v.field("water_mask", water_mask,
@@ -89,6 +135,11 @@ struct TerrainConfig {
     v.field("z_min", z_min, param("m", "png: height of gray value 0"));
     v.field("z_max", z_max, param("m", "png: height of the largest gray value"));
     v.field("river", river, param("", "Built-in river generator (source river)"));
+    v.field("reach", reach,
+            param("",
+                  "A box inside a reach run (source reach): x runs with the flow from the box's "
+                  "upstream end, y to the left bank, z is the elevation less the water level at "
+                  "the inflow"));
     v.field("fill_water", fill_water,
             param("", "Fill the water cells with fluid at rest up to water_level"));
     v.field("fill_velocity", fill_velocity,

@@ -6,6 +6,7 @@
 #include "sph/core/config.h"
 #include "sph/forces/non_pressure_force.h"
 #include "sph/river/height_map_io.h"
+#include "sph/river/reach_terrain.h"
 #include "sph/river/river_generator.h"
 #include "sph/scene/scene_checks.h"
 #include "sph/scene/scene_size.h"
@@ -19,6 +20,7 @@ namespace {
 std::shared_ptr<const Terrain> load_terrain(const TerrainConfig& c, const std::string& file) {
   const std::filesystem::path folder = std::filesystem::path(file).parent_path();
   auto resolve = [&](const std::string& name) { return (folder / name).string(); };
+  if (c.source == "reach") throw std::logic_error("a reach's terrain comes from use_reach_run");
   if (c.source != "river" && c.file.empty())
     throw ConfigError(file, "/terrain/file", "expected a height map file for source " + c.source);
   Terrain t;
@@ -42,6 +44,43 @@ std::shared_ptr<const Terrain> load_terrain(const TerrainConfig& c, const std::s
   return std::make_shared<const Terrain>(std::move(t));
 }
 
+// Terrain source "reach": the box's terrain from the reach run, and the water level, the filled
+// water's velocity and the inflow speed with it. Those three may be given only as the reach gives
+// them (a resolved scene, reloaded, gives them so); the run's path is made absolute and the
+// heading and output time used are written back, so the resolved scene names exactly this box.
+// The water level is 0 whatever the reach: z is measured from it.
+void use_reach_run(SceneConfig& scene, const nlohmann::json& j, const std::string& file) {
+  TerrainConfig& c = *scene.terrain;
+  if (!c.reach) throw ConfigError(file, "/terrain/reach", "expected for source reach");
+  if (!c.water_mask.empty())
+    throw ConfigError(file, "/terrain/water_mask", "the reach's wet cells are the mask");
+  ReachWindowConfig& w = *c.reach;
+  const std::filesystem::path run = std::filesystem::path(file).parent_path() / w.run;
+  w.run = std::filesystem::absolute(run).lexically_normal().string();
+  const Real inflow_x = scene.flow ? scene.flow->inflow_x : Real(0.5) * w.length;
+  const ReachNearField near = near_field_from_reach(w, inflow_x, file, "/terrain/reach");
+  // A value given must be the reach's; the given one is kept, so that a resolved scene reloads
+  // to itself (its heading, written to the scene's precision, samples the reach a hair apart).
+  const auto from_reach = [&](const char* pointer, Real value) {
+    const nlohmann::json::json_pointer p(pointer);
+    if (!j.contains(p)) return value;
+    const double given = j.at(p).is_number() ? j.at(p).get<double>() : std::nan("");
+    if (!(std::abs(given - double(value)) <= 1e-4 * (1 + std::abs(double(value)))))
+      throw ConfigError(file, pointer,
+                        "comes from the reach run with /terrain/source reach (" +
+                            nlohmann::json(shortest_decimal(value)).dump() + "): leave it out");
+    return Real(given);
+  };
+  c.water_level = from_reach("/terrain/water_level", 0);
+  c.fill_velocity =
+      Vec3(from_reach("/terrain/fill_velocity/0", near.speed),
+           from_reach("/terrain/fill_velocity/1", 0), from_reach("/terrain/fill_velocity/2", 0));
+  if (scene.flow) scene.flow->speed = from_reach("/flow/speed", near.speed);
+  w.heading = Real(near.heading);
+  w.time = Real(near.time);
+  scene.terrain_grid = std::make_shared<const Terrain>(near.terrain);
+}
+
 }  // namespace
 
 SceneConfig default_scene() {
@@ -58,7 +97,12 @@ SceneConfig default_scene() {
 LoadedScene parse_scene(nlohmann::json j, const std::string& file) {
   LoadedScene out{default_scene(), {}, file};
   JsonReader::read_struct(j, file, "", out.config);
-  if (out.config.terrain) out.config.terrain_grid = load_terrain(*out.config.terrain, file);
+  if (out.config.terrain) {
+    if (out.config.terrain->source == "reach")
+      use_reach_run(out.config, j, file);
+    else
+      out.config.terrain_grid = load_terrain(*out.config.terrain, file);
+  }
   check_scene(out.config, file);
   out.resolved = JsonWriter::write_struct(out.config);
   return out;

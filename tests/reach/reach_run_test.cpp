@@ -85,7 +85,7 @@ class ReachRun : public ::testing::Test {
 TEST_F(ReachRun, ATiltedChannelSettlesAndWritesItsFolder) {
   const nlohmann::json summary = run(config_, "out");
   const fs::path out = dir_ / "out";
-  for (const char* f : {"reach.json", "map.png", "max_depth.tif", "max_level.tif"})
+  for (const char* f : {"reach.json", "map.png", "max_depth.tif", "max_level.tif", "bed.tif"})
     EXPECT_TRUE(fs::exists(out / f)) << f;
   EXPECT_TRUE(summary["steady"]["reached"].get<bool>());
   const auto& last = summary["frames"].back();
@@ -99,6 +99,9 @@ TEST_F(ReachRun, ATiltedChannelSettlesAndWritesItsFolder) {
   const double normal = std::pow(0.03 * 6.0 / 60.0 / std::sqrt(0.001), 0.6);
   EXPECT_NEAR(depth.values[depth.grid.at(20, 4)], normal, 0.01 * normal);
   EXPECT_NEAR(depth.values[depth.grid.at(20, 4)], last["max_depth_m"].get<double>(), 0.1);
+  // bed.tif is the terrain the flow ran on (here the raster itself).
+  const reach::Raster bed = reach::read_raster((out / "bed.tif").string());
+  EXPECT_NEAR(bed.values[bed.grid.at(20, 4)], 0.001 * bed.grid.x(20) - 1771.0, 1e-4);
 }
 
 TEST_F(ReachRun, BadInputIsRefusedNamingTheKey) {

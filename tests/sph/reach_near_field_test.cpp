@@ -1,0 +1,203 @@
+// A MTDF-SPH near field inside a reach run (terrain source "reach", sph/river/reach_terrain.h):
+// a trapezoidal flume written here as a GeoTIFF runs to its steady state in the shallow-water
+// solver, and a 2 m box of it becomes an SPH scene whose terrain, water and inflow come from the
+// run. The near field's water flows into the box at the reach's depth-averaged velocity there.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "common/config_error.h"
+#include "reach/raster.h"
+#include "reach/reach_run.h"
+#include "sph/scene/scene_loader.h"
+#include "sph/simulation/simulation.h"
+
+namespace fs = std::filesystem;
+
+namespace sph {
+namespace {
+
+constexpr double kX0 = 1771000, kY0 = 5472000;  // NZTM2000, the flume's south-west corner
+constexpr double kDischarge = 0.1;              // m^3/s
+
+// The flume: 16 m long, falling 1 in 1000 to the east; a channel 0.8 m wide at the bottom with
+// banks of slope 1 rising 0.4 m, its axis 1.2 m from the south edge, flat ground beyond.
+double flume_bed(double x, double y) {
+  const double d = std::abs(y - 1.2);
+  return -0.001 * x + std::clamp(d - 0.4, 0.0, 0.4);
+}
+
+class ReachNearField : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    dir_ = fs::temp_directory_path() / ("spill_reach_near_field_" + std::to_string(getpid()));
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+    reach::Raster r;
+    r.grid.nx = 160, r.grid.ny = 24, r.grid.dx = r.grid.dy = 0.1;
+    r.grid.x0 = kX0, r.grid.y0 = kY0;
+    for (int j = 0; j < r.grid.ny; ++j)
+      for (int i = 0; i < r.grid.nx; ++i)
+        r.values.push_back(flume_bed(r.grid.x(i) - kX0, r.grid.y(j) - kY0));
+    r.crs_wkt = reach::crs_wkt_of("EPSG:2193");
+    reach::write_geotiff((dir_ / "flume.tif").string(), r);
+    const nlohmann::json section = {{"from", kY0 + 0.4}, {"to", kY0 + 2.0}};
+    nlohmann::json inflow_section = section, outflow_section = section;
+    inflow_section.update({{"name", "upstream"}, {"side", "west"}});
+    outflow_section.update({{"name", "downstream"}, {"side", "east"}});
+    const nlohmann::json config = {
+        {"name", "flume"},
+        {"terrain", {{"file", "flume.tif"}, {"manning", 0.012}}},
+        {"inflows", {{{"section", inflow_section}, {"discharge", {{"value", kDischarge}}}}}},
+        {"outflows", {{{"section", outflow_section}, {"kind", "normal_depth"}, {"slope", 0.001}}}},
+        {"end_time", 1200},
+        {"output_every", 1200},
+        {"steady_tolerance", 1e-5},
+        {"steady_window", 60}};
+    std::ofstream(dir_ / "reach.json") << config.dump(2);
+    std::ostringstream log;
+    reach::ReachRunOptions o;
+    o.config_file = (dir_ / "reach.json").string();
+    o.out_dir = (dir_ / "flume_run").string();
+    o.log = &log;
+    summary_ = reach::run_reach(o);
+  }
+  static void TearDownTestSuite() { fs::remove_all(dir_); }
+
+  // The near field: a box 2 m long and 2 m wide around the flume's axis 7 m downstream, its
+  // upstream end closed by a wall, at 2 cm particles.
+  static nlohmann::json scene_json() {
+    return {{"name", "flume_near_field"},
+            {"solver", "mtdf"},
+            {"particle_radius", 0.02},
+            {"end_time", 3.0},
+            {"materials",
+             {{"water", {{"density", 1000}, {"viscosity", 0.001}}},
+              {"oil", {{"density", 940}, {"viscosity", 0.004}}}}},
+            {"output", {{"frame_dt", 0.05}}},
+            {"terrain",
+             {{"source", "reach"},
+              {"reach",
+               {{"run", "flume_run"},
+                {"centre", {kX0 + 8, kY0 + 1.2}},
+                {"length", 2},
+                {"width", 2},
+                {"cell_size", 0.02}}},
+              {"fill_water", true}}},
+            {"flow", {{"inflow_x", 0.025}, {"outflow_x", 1.8}, {"buffer", 0.1}}},
+            {"boxes",
+             {{{"min", {-0.2, -1.2, -0.5}}, {"max", {0, 1.2, 0.5}}, {"fluid_side", "outside"}}}},
+            {"domain", {{"min", {-0.3, -1.3, -0.6}}, {"max", {2.3, 1.3, 0.6}}}}};
+  }
+  static LoadedScene load(const nlohmann::json& scene) {
+    std::ofstream(dir_ / "scene.json") << scene.dump(2);
+    return load_scene((dir_ / "scene.json").string());
+  }
+  // The message of the ConfigError loading throws ("" when none).
+  static std::string refusal(const nlohmann::json& scene) {
+    try {
+      load(scene);
+    } catch (const common::ConfigError& e) {
+      return e.what();
+    }
+    return "";
+  }
+
+  static fs::path dir_;
+  static nlohmann::json summary_;
+};
+
+fs::path ReachNearField::dir_;
+nlohmann::json ReachNearField::summary_;
+
+}  // namespace
+
+// The reach's depth-averaged velocity at the box's inflow, from its depth raster alone: the
+// discharge over the wetted area of the cross-section there. After 1.5 s the SPH water just
+// downstream of the inflow buffer moves at it within 10 %, and the scene's terrain is the flume's
+// bed less the reach's water level.
+TEST_F(ReachNearField, TheNearFieldFlowsInAtTheReachsVelocity) {
+  ASSERT_TRUE(summary_["steady"]["reached"].get<bool>()) << summary_["steady"].dump();
+  const auto& last = summary_["frames"].back();
+  const reach::Raster depth =
+      reach::read_raster((dir_ / "flume_run" / last["files"]["depth"].get<std::string>()).string());
+  const reach::Grid& g = depth.grid;
+  const int column = int((8 - 1 + 0.025) / g.dx);
+  double area = 0, level = 0;
+  int wet = 0;
+  for (int j = 0; j < g.ny; ++j) {
+    const double h = depth.values[g.at(column, j)];
+    if (!(h > 0.01)) continue;
+    area += h * g.dy;
+    level += h + flume_bed(g.x(column) - kX0, g.y(j) - kY0);
+    ++wet;
+  }
+  level /= wet;
+  const double reach_velocity = kDischarge / area;
+
+  const LoadedScene scene = load(scene_json());
+  const FlowConfig& flow = *scene.config.flow;
+  const Terrain& terrain = *scene.config.terrain_grid;
+  // The box's +x runs east with the flume, its z = 0 is the reach's level at the inflow.
+  EXPECT_NEAR(double(scene.config.terrain->reach->heading), 90, 1);
+  EXPECT_NEAR(double(terrain.height_at(1, 0)), flume_bed(8, 1.2) - level, 0.01);
+  EXPECT_NEAR(double(terrain.height_at(1, 0.6)), flume_bed(8, 1.8) - level, 0.01);
+
+  Simulation sim(scene.config);
+  const double frame_dt = double(scene.config.output.frame_dt);
+  const Real from = flow.inflow_x + flow.buffer, to = from + Real(0.5);
+  double sum = 0;
+  long samples = 0;
+  for (int frame = 1; frame <= 60; ++frame) {
+    sim.advance_to(frame * frame_dt, frame);
+    if (frame * frame_dt < 1.5) continue;
+    const FluidParticles& f = sim.fluid();
+    for (Index i = 0; i < f.active_count(); ++i)
+      if (f.position[i].x() > from && f.position[i].x() < to) {
+        sum += double(f.velocity[i].x());
+        ++samples;
+      }
+  }
+  const double near_velocity = sum / double(samples);
+  std::cout << "reach: depth-averaged velocity " << reach_velocity << " m/s over " << area
+            << " m^2 at level " << level << " m; scene inflow speed " << flow.speed
+            << " m/s; near field's mean over 1.5-3 s: " << near_velocity << " m/s ("
+            << sim.fluid().active_count() << " particles active)\n";
+  EXPECT_NEAR(near_velocity, reach_velocity, 0.1 * reach_velocity);
+}
+
+// What the reach gives may be left out or given as it is; anything else is refused, naming the
+// key, as is a box off the reach.
+TEST_F(ReachNearField, RefusesSettingsTheReachGivesAndABoxOffIt) {
+  const LoadedScene scene = load(scene_json());
+  nlohmann::json s = scene_json();
+  s["flow"]["speed"] = 2.0;
+  EXPECT_NE(refusal(s).find("/flow/speed: comes from the reach run"), std::string::npos);
+  s["flow"]["speed"] = scene.config.flow->speed;
+  EXPECT_EQ(refusal(s), "");
+  s = scene_json();
+  s["terrain"]["water_level"] = 0.3;
+  EXPECT_NE(refusal(s).find("/terrain/water_level"), std::string::npos);
+  s = scene_json();
+  s["terrain"]["reach"]["centre"] = {kX0 + 15.5, kY0 + 1.2};
+  EXPECT_NE(refusal(s).find("/terrain/reach/centre: the box's corner"), std::string::npos);
+  s = scene_json();
+  s["terrain"]["reach"]["run"] = "nowhere";
+  EXPECT_NE(refusal(s).find("/terrain/reach/run"), std::string::npos);
+  // The resolved scene (as a run's metadata keeps it) loads again to the same box, from another
+  // folder; its heading and time are written to the resolved scene's precision.
+  const LoadedScene again = parse_scene(scene.resolved, (dir_ / "elsewhere" / "x.json").string());
+  const auto& h0 = scene.config.terrain_grid->height;
+  const auto& h1 = again.config.terrain_grid->height;
+  ASSERT_EQ(h0.size(), h1.size());
+  for (size_t k = 0; k < h0.size(); ++k) ASSERT_NEAR(double(h0[k]), double(h1[k]), 1e-5) << k;
+  EXPECT_NEAR(double(again.config.flow->speed), double(scene.config.flow->speed), 1e-5);
+}
+
+}  // namespace sph
