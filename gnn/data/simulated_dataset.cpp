@@ -104,7 +104,7 @@ void write_dataset(const fs::path& folder, const std::vector<sph::TrajectoryPlan
 SimulatedDataset simulate_dataset(const sph::GenerateOptions& options,
                                   const std::string& save_dir) {
   RecorderSink sink(options, save_dir);
-  const nlohmann::json metadata = sph::generate(options, sink);
+  const nlohmann::json metadata = sph::generate(options, sink).metadata;
   const std::vector<sph::TrajectoryPlan>& plan = sink.plan;
   const std::vector<sph::RecordedTrajectory>& recorded = sink.recorded;
   std::optional<common::OutputFolder>& saved = sink.saved;

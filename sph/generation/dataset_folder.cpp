@@ -1,6 +1,7 @@
 #include "sph/generation/dataset_folder.h"
 
 #include <hdf5.h>
+#include <unistd.h>
 
 #include <array>
 #include <fstream>
@@ -25,8 +26,22 @@ namespace fs = std::filesystem;
 
 namespace {
 
+// `file` with this process's number appended: the temporary a process writes before renaming it
+// into place, so that two shards finishing together never write the same temporary file.
+fs::path process_temporary(const fs::path& file) {
+  return file.string() + ".tmp-" + std::to_string(::getpid());
+}
+
+// Written to a temporary of this process, then renamed over `file`.
 void write_json_atomically(const fs::path& file, const nlohmann::json& j) {
-  common::write_file_atomically(file, j.dump(2) + "\n");
+  const fs::path tmp = process_temporary(file);
+  common::write_file_atomically(tmp, j.dump(2) + "\n");
+  std::error_code ec;
+  fs::rename(tmp, file, ec);
+  if (ec) {
+    fs::remove(tmp, ec);
+    throw common::WriteError(file.string() + ": cannot write (" + ec.message() + ")");
+  }
 }
 
 // A finished trajectory's description, checked key by key: a damaged part file is named with its
@@ -108,26 +123,42 @@ class DatasetFolderSink : public TrajectorySink {
     common::Fnv1a fingerprint;
     fingerprint.add(request.dump());
     request_fingerprint_ = fingerprint.hex();
-    if (fs::exists(request_file)) {
-      const nlohmann::json stored = load_json_file(request_file.string(), "generation request");
-      const nlohmann::json patch = nlohmann::json::diff(stored, request);
-      if (!patch.empty()) {
-        std::string keys;
-        for (const auto& op : patch)
-          keys += (keys.empty() ? "" : ", ") + op.at("path").get<std::string>();
-        throw ConfigError(request_file.string(), patch[0].at("path").get<std::string>(),
-                          "this folder holds a generation with other settings (" + keys +
-                              " differ); resume it with the same command, or use a fresh --out");
-      }
-    } else {
-      bool earlier_parts = false;
-      for (const auto& e : fs::directory_iterator(parts_dir_))
-        earlier_parts = earlier_parts || e.is_regular_file();
+    // Shards of one request start side by side: the first to come creates the request file (a
+    // hard link fails when it exists, so two never both do) and the others compare with it.
+    // Parts are only ever written after it exists, so parts without it are another generation's.
+    bool earlier_parts = false;
+    for (const auto& e : fs::directory_iterator(parts_dir_))
+      earlier_parts = earlier_parts || (e.is_regular_file() &&
+                                        e.path().filename().string().rfind("request.json", 0) != 0);
+    if (!fs::exists(request_file)) {
       if (earlier_parts)
         throw ConfigError(
             request_file.string(), "",
             "missing, beside trajectories of an earlier generation; use a fresh --out");
-      write_json_atomically(request_file, request);
+      // The invocation, not compared, lets `--assemble` rebuild the request from the folder.
+      nlohmann::json stored = request;
+      stored["invocation"] = {{"scene_file", fs::absolute(o.scene_file).string()},
+                              {"overrides", o.overrides},
+                              {"threads", o.threads}};
+      const fs::path mine = process_temporary(request_file);
+      common::write_file_atomically(mine, stored.dump(2) + "\n");
+      std::error_code ec;
+      fs::create_hard_link(mine, request_file, ec);
+      if (ec && !fs::exists(request_file))  // a file system without hard links
+        fs::rename(mine, request_file);
+      else
+        fs::remove(mine);
+    }
+    nlohmann::json stored = load_json_file(request_file.string(), "generation request");
+    stored.erase("invocation");
+    const nlohmann::json patch = nlohmann::json::diff(stored, request);
+    if (!patch.empty()) {
+      std::string keys;
+      for (const auto& op : patch)
+        keys += (keys.empty() ? "" : ", ") + op.at("path").get<std::string>();
+      throw ConfigError(request_file.string(), patch[0].at("path").get<std::string>(),
+                        "this folder holds a generation with other settings (" + keys +
+                            " differ); resume it with the same command, or use a fresh --out");
     }
   }
 
@@ -246,7 +277,7 @@ class DatasetFolderSink : public TrajectorySink {
 }  // namespace
 
 void assemble_split(const fs::path& file, const std::vector<fs::path>& parts) {
-  const fs::path tmp = file.string() + ".tmp";
+  const fs::path tmp = process_temporary(file);
   const hid_t out = H5Fcreate(tmp.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
   if (out < 0) throw SimulationError(tmp.string() + ": cannot create");
   for (size_t k = 0; k < parts.size(); ++k) {
@@ -272,22 +303,66 @@ void assemble_split(const fs::path& file, const std::vector<fs::path>& parts) {
   fs::rename(tmp, file);
 }
 
-nlohmann::json generate_dataset(const GenerateOptions& o) {
+GenerationResult generate_dataset(const GenerateOptions& o) {
   // A folder made by this call that holds no finished trajectory has nothing to resume: it is
-  // removed when generation fails (a full disk once left an empty parts/ behind).
+  // removed when generation fails (a full disk once left an empty parts/ behind). Not so for a
+  // shard: the others may be writing into it.
+  const bool sharded = o.shard.count > 1 || o.shard.assemble_only;
   const bool new_folder = !fs::exists(o.out_dir);
   try {
     DatasetFolderSink sink(o.out_dir);
-    return generate(o, sink);
+    GenerationResult result = generate(o, sink);
+    if (o.shard.assemble_only && !result.missing.empty()) {
+      std::string names;
+      for (size_t k = 0; k < result.missing.size() && k < 20; ++k)
+        names += (k ? ", " : "") + group_name(result.missing[k]);
+      if (result.missing.size() > 20) names += ", ...";
+      throw ConfigError((o.out_dir / "parts").string(), "",
+                        std::to_string(result.missing.size()) + " of " +
+                            std::to_string(o.trajectories) + " trajectories are not finished (" +
+                            names + "): run their shards before assembling");
+    }
+    return result;
   } catch (...) {
     std::error_code ec;
     bool finished = false;
     for (fs::directory_iterator it(o.out_dir / "parts", ec), end; !ec && it != end;
          it.increment(ec))
       finished = finished || it->path().extension() == ".h5";
-    if (new_folder && !finished) fs::remove_all(o.out_dir, ec);
+    if (new_folder && !finished && !sharded) fs::remove_all(o.out_dir, ec);
     throw;
   }
+}
+
+GenerateOptions stored_generation(const fs::path& out_dir) {
+  using common::JsonKind;
+  const fs::path file = out_dir / "parts" / "request.json";
+  if (!fs::exists(file))
+    throw ConfigError(file.string(), "",
+                      "missing: " + out_dir.string() + " holds no generation to assemble");
+  const std::string name = file.string();
+  const nlohmann::json j = load_json_file(name, "generation request");
+  if (!j.contains("invocation"))
+    throw ConfigError(name, "/invocation",
+                      "missing (a generation from before shards): finish it by running its "
+                      "generate command again");
+  GenerateOptions o;
+  o.out_dir = out_dir;
+  o.scene_file =
+      common::require_json(j, "/invocation/scene_file", JsonKind::kString, name).get<std::string>();
+  o.overrides = common::require_json(j, "/invocation/overrides", JsonKind::kArray, name)
+                    .get<std::vector<std::string>>();
+  o.threads = common::require_json(j, "/invocation/threads", JsonKind::kInteger, name).get<int>();
+  o.trajectories = common::require_json(j, "/trajectories", JsonKind::kInteger, name).get<int>();
+  o.seed = common::require_json(j, "/seed", JsonKind::kInteger, name).get<std::uint64_t>();
+  o.frames = common::require_json(j, "/frames", JsonKind::kInteger, name).get<int>();
+  o.warm_up = common::require_json(j, "/warm_up", JsonKind::kNumber, name).get<double>();
+  o.split = common::require_json(j, "/split", JsonKind::kArray, name).get<std::array<double, 3>>();
+  for (const auto& v : common::require_json(j, "/vary", JsonKind::kArray, name))
+    o.vary.push_back(
+        {v.at("pointer").get<std::string>(), v.at("lo").get<double>(), v.at("hi").get<double>()});
+  o.shard.assemble_only = true;
+  return o;
 }
 
 }  // namespace sph

@@ -6,7 +6,9 @@
 // statistics, each renamed into place when complete), so an interrupted generation resumes
 // without redoing finished trajectories; parts/request.json holds the whole resolved request, and
 // a folder is resumed only by the same one. The split files are assembled from the parts at the
-// end.
+// end. Shards of one request (GenerationShard) share the folder: each writes only its own
+// trajectories' parts, and whichever finds every part finished assembles the splits (each
+// process through temporaries of its own, so two doing it at once write the same files).
 
 #include <filesystem>
 #include <nlohmann/json.hpp>
@@ -16,11 +18,17 @@
 
 namespace sph {
 
-// Returns metadata.json's content. Throws ConfigError for a bad scene or pointer or another
-// request in the folder, SimulationError for a failed run, RunInterrupted (frame_loop.h) when
-// `stop` was set. A folder this call made is removed again when it fails before any trajectory
-// is finished.
-nlohmann::json generate_dataset(const GenerateOptions& options);
+// Returns metadata.json's content, or, for a shard while other shards' trajectories are missing,
+// which are. Throws ConfigError for a bad scene or pointer or another request in the folder, or
+// when assembling (options.shard.assemble_only) with trajectories missing (naming them),
+// SimulationError for a failed run, RunInterrupted (frame_loop.h) when `stop` was set. A folder
+// this call made is removed again when it fails before any trajectory is finished, unless it is
+// a shard's.
+GenerationResult generate_dataset(const GenerateOptions& options);
+
+// The request stored in `out_dir`/parts/request.json as options that assemble it
+// (`spill-sim generate --assemble`). Throws ConfigError naming the file and key.
+GenerateOptions stored_generation(const std::filesystem::path& out_dir);
 
 // Writes a split file holding group "00000" of each of `parts` as groups 00000, 00001, ... in
 // order, atomically (temp file + rename). Throws SimulationError naming the file.

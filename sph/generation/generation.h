@@ -8,7 +8,10 @@
 // records the same trajectories into tensors in-process (gnn/data/simulated_dataset.h). Both
 // get the same draws, warm-up rule, statistics and metadata (docs/design.md's data contract).
 // Parameters are all drawn from the seed before anything runs, so a resumed or repeated
-// generation draws the same ones; on one thread the data are bit-identical.
+// generation draws the same ones; on one thread the data are bit-identical. The same request can
+// be cut into shards (a cluster's job array): shard I of N simulates the trajectories i with
+// i mod N = I, and the statistics, summed over the trajectories in index order, do not depend on
+// the cut.
 
 #include <array>
 #include <atomic>
@@ -32,6 +35,14 @@ struct ParameterRange {
 // Parses "/pointer=LO:HI"; throws common::InputError with the text on a malformed one.
 ParameterRange parse_parameter_range(const std::string& text);
 
+// Which share of a generation's trajectories one process simulates.
+struct GenerationShard {
+  int index = 0, count = 1;    // trajectories i with i mod count == index
+  bool assemble_only = false;  // simulate none: assemble what the shards finished
+};
+// Parses --shard "I/N"; throws common::InputError naming it unless 0 <= I < N.
+GenerationShard parse_shard(const std::string& text);
+
 struct GenerateOptions {
   std::string scene_file;
   std::vector<std::string> overrides;  // --set, applied before the drawn parameters
@@ -43,6 +54,7 @@ struct GenerateOptions {
   int frames = 0;       // recorded frames per trajectory after the warm-up; 0: to the end
   double warm_up = -1;  // s before recording starts; < 0: the earliest leak's start (or 0)
   int threads = 1;      // recorded in the metadata (the caller sets OpenMP's thread count)
+  GenerationShard shard;
   const std::atomic<bool>* stop = nullptr;
   std::ostream* log = nullptr;  // progress per trajectory; null for none
 };
@@ -100,9 +112,19 @@ class TrajectorySink {
                       const nlohmann::json& /*metadata*/) {}
 };
 
-// Runs the whole request into `sink` and returns metadata.json's content. Bad input (scene file,
-// --vary pointer, counts) throws common::InputError or ConfigError before anything is simulated;
-// a failed run throws SimulationError, a stop request RunInterrupted.
-nlohmann::json generate(const GenerateOptions& options, TrajectorySink& sink);
+// What a generation, or one shard of it, ended with.
+struct GenerationResult {
+  // metadata.json's content; null while trajectories of other shards are missing.
+  nlohmann::json metadata;
+  std::vector<int> missing;  // trajectories not finished yet (other shards'), by index
+  int simulated = 0;         // trajectories this call simulated
+};
+
+// Runs the request's (or its shard's) trajectories into `sink`; when every trajectory of the
+// request is then finished (the sink holds those of other shards), computes the metadata and
+// lets the sink assemble the whole. Bad input (scene file, --vary pointer, counts) throws
+// common::InputError or ConfigError before anything is simulated; a failed run throws
+// SimulationError, a stop request RunInterrupted.
+GenerationResult generate(const GenerateOptions& options, TrajectorySink& sink);
 
 }  // namespace sph

@@ -163,7 +163,7 @@ TEST_F(SceneTraining, InProcessDataEqualTheSavedDatasetAndTheGenerators) {
 
   sph::GenerateOptions g = o;
   g.out_dir = dir_ / "generated";
-  const nlohmann::json generated = sph::generate_dataset(g);
+  const nlohmann::json generated = sph::generate_dataset(g).metadata;
   EXPECT_EQ(without_timing(generated), without_timing(simulated.metadata.raw));
   const gnn::DatasetMetadata generated_meta =
       gnn::read_metadata((dir_ / "generated/metadata.json").string());

@@ -83,7 +83,7 @@ class Generate : public ::testing::Test {
 TEST_F(Generate, WritesSplitsShapesAndTheTrainingStatistics) {
   GenerateOptions o = options("spill_generate_a");
   fs::remove_all(o.out_dir);
-  const nlohmann::json meta = generate_dataset(o);
+  const nlohmann::json meta = generate_dataset(o).metadata;
   EXPECT_EQ(meta.at("counts"), (nlohmann::json{{"train", 1}, {"valid", 1}, {"test", 1}}));
   EXPECT_EQ(meta.at("sequence_length"), 6);
   EXPECT_EQ(meta.at("particle_types"), (nlohmann::json{{"water", 0}, {"oil", 1}, {"boundary", 2}}));
@@ -114,7 +114,7 @@ TEST_F(Generate, WritesSplitsShapesAndTheTrainingStatistics) {
 TEST_F(Generate, ResumesWithoutRedoingAndMatchesAnUninterruptedRun) {
   GenerateOptions whole = options("spill_generate_whole");
   fs::remove_all(whole.out_dir);
-  const nlohmann::json expected = generate_dataset(whole);
+  const nlohmann::json expected = generate_dataset(whole).metadata;
 
   GenerateOptions o = options("spill_generate_resume");
   fs::remove_all(o.out_dir);
@@ -137,7 +137,7 @@ TEST_F(Generate, ResumesWithoutRedoingAndMatchesAnUninterruptedRun) {
   EXPECT_FALSE(fs::exists(o.out_dir / "metadata.json"));
 
   const auto kept = fs::last_write_time(o.out_dir / "parts" / "trajectory_00000.h5");
-  const nlohmann::json resumed = generate_dataset(o);
+  const nlohmann::json resumed = generate_dataset(o).metadata;
   EXPECT_EQ(fs::last_write_time(o.out_dir / "parts" / "trajectory_00000.h5"), kept);
   EXPECT_EQ(resumed.at("vel_mean"), expected.at("vel_mean"));
   EXPECT_EQ(resumed.at("acc_std"), expected.at("acc_std"));
@@ -191,7 +191,7 @@ TEST_F(Generate, ResumesWithoutRedoingAndMatchesAnUninterruptedRun) {
 TEST_F(Generate, RefusesAPartOfAnotherDataset) {
   GenerateOptions o = options("spill_generate_own");
   fs::remove_all(o.out_dir);
-  const nlohmann::json own = generate_dataset(o);
+  const nlohmann::json own = generate_dataset(o).metadata;
   GenerateOptions other = options("spill_generate_other");
   other.overrides = {"/particle_radius=0.025"};
   fs::remove_all(other.out_dir);
@@ -229,7 +229,74 @@ TEST_F(Generate, RefusesAPartOfAnotherDataset) {
   fs::copy_file(o.out_dir / "kept.h5", parts / "trajectory_00001.h5",
                 fs::copy_options::overwrite_existing);
   std::ofstream(parts / "trajectory_00001.json", std::ios::trunc) << unrecorded.dump();
-  EXPECT_EQ(generate_dataset(o), own);
+  EXPECT_EQ(generate_dataset(o).metadata, own);
+}
+
+// A request cut into shards (a cluster's job array) ends as the same dataset as one process's
+// run: each shard simulates only its own trajectories, assembling refuses while any is missing
+// and names it, whichever shard finishes the last trajectory assembles, and the statistics and
+// the split files do not depend on the cut.
+TEST_F(Generate, ShardsAssembleTheDatasetOfOneRun) {
+  GenerateOptions whole = options("spill_generate_unsharded");
+  fs::remove_all(whole.out_dir);
+  const nlohmann::json expected = generate_dataset(whole).metadata;
+
+  GenerateOptions o = options("spill_generate_shards");
+  fs::remove_all(o.out_dir);
+  o.shard = parse_shard("1/2");
+  const GenerationResult first = generate_dataset(o);
+  EXPECT_TRUE(first.metadata.is_null());
+  EXPECT_EQ(first.simulated, 1);
+  EXPECT_EQ(first.missing, (std::vector<int>{0, 2}));
+  EXPECT_TRUE(fs::exists(o.out_dir / "parts" / "trajectory_00001.h5"));
+  EXPECT_FALSE(fs::exists(o.out_dir / "parts" / "trajectory_00000.h5"));
+  EXPECT_FALSE(fs::exists(o.out_dir / "train.h5"));
+  EXPECT_FALSE(fs::exists(o.out_dir / "metadata.json"));
+  try {
+    generate_dataset(stored_generation(o.out_dir));
+    ADD_FAILURE() << "assembled with two trajectories missing";
+  } catch (const ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("00000, 00002"), std::string::npos) << e.what();
+  }
+  EXPECT_FALSE(fs::exists(o.out_dir / "metadata.json"));
+
+  o.shard = parse_shard("0/2");
+  const GenerationResult last = generate_dataset(o);
+  EXPECT_EQ(last.simulated, 2);
+  EXPECT_TRUE(last.missing.empty());
+  ASSERT_FALSE(last.metadata.is_null());
+  for (const char* key :
+       {"vel_mean", "vel_std", "acc_mean", "acc_std", "counts", "sequence_lengths", "generation"})
+    EXPECT_EQ(last.metadata.at(key), expected.at(key)) << key;
+  // Each trajectory's description, all but its wall times.
+  auto untimed = [](nlohmann::json trajectories) {
+    for (auto& t : trajectories) t.erase("sph_seconds_per_frame"), t.erase("sph_wall_s");
+    return trajectories;
+  };
+  EXPECT_EQ(untimed(last.metadata.at("trajectories")), untimed(expected.at("trajectories")));
+  for (const char* split : {"train.h5", "valid.h5", "test.h5"}) {
+    std::vector<hsize_t> d1, d2;
+    EXPECT_EQ(read_positions(o.out_dir / split, "00000", &d1),
+              read_positions(whole.out_dir / split, "00000", &d2))
+        << split;
+  }
+  EXPECT_EQ(read_json(o.out_dir / "metadata.json"), last.metadata);
+  // Assembling again from the folder alone gives the same metadata and leaves no temporaries.
+  fs::remove(o.out_dir / "metadata.json");
+  fs::remove(o.out_dir / "train.h5");
+  const GenerationResult assembled = generate_dataset(stored_generation(o.out_dir));
+  EXPECT_EQ(assembled.simulated, 0);
+  EXPECT_EQ(assembled.metadata, last.metadata);
+  EXPECT_TRUE(fs::exists(o.out_dir / "train.h5"));
+  for (const auto& e : fs::directory_iterator(o.out_dir))
+    EXPECT_EQ(e.path().string().find(".tmp"), std::string::npos) << e.path();
+
+  EXPECT_THROW(parse_shard("2/2"), common::InputError);
+  EXPECT_THROW(parse_shard("-1/2"), common::InputError);
+  EXPECT_THROW(parse_shard("1"), common::InputError);
+  EXPECT_THROW(parse_shard("1/0"), common::InputError);
+  EXPECT_THROW(stored_generation(fs::temp_directory_path() / "spill_generate_nowhere"),
+               ConfigError);
 }
 
 TEST(GenerateInput, BadRequestsAreClearErrors) {

@@ -1,6 +1,11 @@
 // spill-sim generate --scene FILE --trajectories N --out DIR [--vary /pointer=LO:HI ...]
 //                    [--seed S] [--split 0.8/0.1/0.1] [--frames F] [--warm-up S] [--threads N]
+//                    [--shard I/N]
+// spill-sim generate --assemble --out DIR
+// A shard defaults to a Slurm job array's task (SLURM_ARRAY_TASK_ID less SLURM_ARRAY_TASK_MIN,
+// of SLURM_ARRAY_TASK_COUNT), so an array job needs no --shard.
 
+#include <cstdlib>
 #include <iostream>
 #include <memory>
 
@@ -14,10 +19,35 @@ namespace sph {
 namespace {
 struct GenerateCommandOptions {
   GenerateOptions generate;
-  std::string out_dir, split = "0.8/0.1/0.1";
+  std::string out_dir, split = "0.8/0.1/0.1", shard;
   std::vector<std::string> vary;
   int threads = 1;
+  bool assemble = false;
 };
+
+// --shard, else the Slurm array task this process is, else the whole request.
+GenerationShard shard_of(const std::string& option) {
+  if (!option.empty()) return parse_shard(option);
+  const char* id = std::getenv("SLURM_ARRAY_TASK_ID");
+  const char* count = std::getenv("SLURM_ARRAY_TASK_COUNT");
+  if (!id || !count) return {};
+  const char* min = std::getenv("SLURM_ARRAY_TASK_MIN");
+  auto number = [](const char* name, const char* text) {
+    char* end = nullptr;
+    const long v = std::strtol(text, &end, 10);
+    if (*text == '\0' || *end != '\0')
+      throw common::InputError(std::string(name) + "=" + text + ": not a whole number");
+    return v;
+  };
+  const long index =
+      number("SLURM_ARRAY_TASK_ID", id) - (min ? number("SLURM_ARRAY_TASK_MIN", min) : 0);
+  const long n = number("SLURM_ARRAY_TASK_COUNT", count);
+  if (index < 0 || index >= n)
+    throw common::InputError("SLURM_ARRAY_TASK_ID=" + std::string(id) +
+                             ": not a task of an array of " + count + " (give --array=0-" +
+                             std::to_string(n - 1) + ", or --shard I/N)");
+  return {int(index), int(n), false};
+}
 }  // namespace
 
 Command add_generate_command(CLI::App& app, const CommandContext& context) {
@@ -25,10 +55,9 @@ Command add_generate_command(CLI::App& app, const CommandContext& context) {
   GenerateOptions& g = o->generate;
   auto* c = app.add_subcommand(
       "generate", "Simulate N trajectories with drawn parameters into train/valid/test.h5");
-  c->add_option("--scene", g.scene_file, "Scene JSON file")->required();
-  c->add_option("--trajectories", g.trajectories, "Number of trajectories")
-      ->required()
-      ->check(common::positive());
+  auto* scene = c->add_option("--scene", g.scene_file, "Scene JSON file");
+  auto* trajectories = c->add_option("--trajectories", g.trajectories, "Number of trajectories")
+                           ->check(common::positive());
   c->add_option("--out", o->out_dir, "Dataset folder (resumed if it holds a partial run)")
       ->required();
   c->add_option("--vary", o->vary, "Draw a scene value per trajectory: /pointer=LO:HI");
@@ -45,17 +74,46 @@ Command add_generate_command(CLI::App& app, const CommandContext& context) {
                 "OpenMP threads (1, the default, makes datasets bit-reproducible)")
       ->capture_default_str()
       ->check(common::positive());
+  c->add_option("--shard", o->shard,
+                "Simulate only shard I of N (trajectories i with i mod N = I) into the folder's "
+                "parts/; default: the Slurm array task, if any");
+  c->add_flag("--assemble", o->assemble,
+              "Only assemble the splits and metadata.json of a sharded generation in --out")
+      ->excludes(scene)
+      ->excludes(trajectories);
   return {c, [o, context] {
             context.catch_stop_signals();
-            GenerateOptions options = o->generate;
-            options.out_dir = common::normalise_output_path(o->out_dir);
-            for (const auto& v : o->vary) options.vary.push_back(parse_parameter_range(v));
-            options.split = parse_split(o->split);
-            options.threads = use_threads(o->threads);
+            const std::filesystem::path out_dir = common::normalise_output_path(o->out_dir);
+            GenerateOptions options;
+            if (o->assemble) {
+              options = stored_generation(out_dir);
+            } else {
+              if (o->generate.scene_file.empty() || o->generate.trajectories < 1)
+                throw common::InputError(
+                    "generate: --scene and --trajectories are required (or --assemble)");
+              options = o->generate;
+              options.out_dir = out_dir;
+              for (const auto& v : o->vary) options.vary.push_back(parse_parameter_range(v));
+              options.split = parse_split(o->split);
+              options.shard = shard_of(o->shard);
+            }
+            if (o->assemble)
+              use_threads(1);  // the stored invocation's count stays in the metadata
+            else
+              options.threads = use_threads(o->threads);
             options.stop = context.stop;
             options.log = &std::cerr;
-            const nlohmann::json meta = generate_dataset(options);
-            std::cout << "wrote " << o->out_dir << ": " << meta["counts"].dump()
+            const GenerationResult result = generate_dataset(options);
+            if (result.metadata.is_null()) {
+              std::cout << "shard " << options.shard.index << "/" << options.shard.count
+                        << ": simulated " << result.simulated << " trajectories into " << o->out_dir
+                        << "/parts; " << result.missing.size()
+                        << " of other shards are not finished yet (the last shard to finish "
+                           "assembles the dataset, or: spill-sim generate --assemble --out "
+                        << o->out_dir << ")\n";
+              return 0;
+            }
+            std::cout << "wrote " << o->out_dir << ": " << result.metadata["counts"].dump()
                       << " trajectories\n";
             return 0;
           }};
