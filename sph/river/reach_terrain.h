@@ -6,6 +6,8 @@
 // z = 0 as in the built-in river. The reach's wet cells are the water mask, and the inflow speed
 // is the reach's depth-averaged velocity through that section (discharge over area): the SPH
 // inflow enters as one plug across the section (sph/river/river_flow.h), at the reach's mean.
+// The box's two sides (along the flow, so along streamlines) are walls: their outermost nodes
+// rise to the deepest water's depth above the level where the bank is lower.
 
 #include <string>
 

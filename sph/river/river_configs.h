@@ -159,6 +159,7 @@ struct FlowConfig {
   Real outflow_x = 0;
   Real speed = Real(1.5);
   Real buffer = Real(0.1);
+  bool plug = false;
   Real reserve_s = Real(1);
   template <class V>
   void describe(V& v) {
@@ -176,6 +177,12 @@ struct FlowConfig {
                   "Length downstream of inflow_x over which water moves at exactly `speed` "
                   "(the inflow's steady profile), so the flow cannot push back through it")
                 .non_negative());
+    v.field("plug", plug,
+            param("",
+                  "Also move the buffer's water at `speed` along x within each step (a plug), "
+                  "not only reset its velocity after it, so that friction cannot hold back its "
+                  "lowest particles: needed where a layer takes long to enter (deep, slow "
+                  "rivers; docs/reach.md)"));
     v.field("reserve_s", reserve_s,
             param("s",
                   "Spare particles for the inflow, in seconds of inflow, before retired ones "

@@ -37,9 +37,10 @@ class RiverFlow {
   // on with less inflow and says so; a solver run stops).
   void emit(FluidParticles& fluid, double t, bool skip_when_empty = false);
   long skipped_layers() const { return skipped_layers_; }
-  // After a step ending at time t: holds the buffer at the inflow velocity and retires the
-  // particles past the outflow plane.
-  void after_step(FluidParticles& fluid, double t);
+  // After a step of dt ending at time t: with `plug`, moves the inflow buffer's water along x by
+  // the inflow speed over the step; holds the buffers' velocity and retires the particles past
+  // the outflow plane.
+  void after_step(FluidParticles& fluid, double t, Real dt);
   // The two halves of after_step, for frames computed outside the solver (the held velocity
   // moves a particle before it is judged): the buffers' held velocity, then the retirement.
   void hold_buffers(FluidParticles& fluid) const;

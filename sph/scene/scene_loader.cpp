@@ -75,7 +75,24 @@ void use_reach_run(SceneConfig& scene, const nlohmann::json& j, const std::strin
   c.fill_velocity =
       Vec3(from_reach("/terrain/fill_velocity/0", near.speed),
            from_reach("/terrain/fill_velocity/1", 0), from_reach("/terrain/fill_velocity/2", 0));
-  if (scene.flow) scene.flow->speed = from_reach("/flow/speed", near.speed);
+  if (scene.flow) {
+    FlowConfig& flow = *scene.flow;
+    flow.speed = from_reach("/flow/speed", near.speed);
+    // A reach's river is deep and slow beside the built-in one's: its inflow needs the plug
+    // (river_flow.h), on unless given, and a buffer at least the kernel's support plus a
+    // spacing long. Shorter, the water just past the buffer feels the free gap behind the
+    // newest layer, and the White River's box at 25 cm spacing (buffer 0.4 m) threw thousands of
+    // particles about at up to 13 m/s where 1 m held its 0.64 m/s.
+    if (!j.contains(nlohmann::json::json_pointer("/flow/plug"))) flow.plug = true;
+    const Real shortest = scene.support_radius() + scene.particle_diameter();
+    if (flow.buffer < shortest * Real(1 - 1e-5))
+      throw ConfigError(file, "/flow/buffer",
+                        "expected at least the kernel's support plus a particle spacing (" +
+                            nlohmann::json(shortest_decimal(shortest)).dump() +
+                            " m) for a near field in a reach (got " +
+                            nlohmann::json(shortest_decimal(flow.buffer)).dump() +
+                            " m): a shorter inflow buffer blows a deep, slow river apart");
+  }
   w.heading = Real(near.heading);
   w.time = Real(near.time);
   scene.terrain_grid = std::make_shared<const Terrain>(near.terrain);

@@ -237,7 +237,7 @@ FrameStats Simulation::advance_to(double t_end, int frame) {
     StepStats step;
     solver_->step(*this, step);
     time_ += double(step.dt);
-    if (flow_) flow_->after_step(fluid_, time_);
+    if (flow_) flow_->after_step(fluid_, time_, step.dt);
     ++steps_;
     ++stats.steps;
     check_state(frame);

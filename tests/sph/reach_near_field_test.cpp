@@ -90,7 +90,7 @@ class ReachNearField : public ::testing::Test {
                 {"width", 2},
                 {"cell_size", 0.02}}},
               {"fill_water", true}}},
-            {"flow", {{"inflow_x", 0.025}, {"outflow_x", 1.8}, {"buffer", 0.1}}},
+            {"flow", {{"inflow_x", 0.025}, {"outflow_x", 1.8}, {"buffer", 0.15}}},
             {"boxes",
              {{{"min", {-0.2, -1.2, -0.5}}, {"max", {0, 1.2, 0.5}}, {"fluid_side", "outside"}}}},
             {"domain", {{"min", {-0.3, -1.3, -0.6}}, {"max", {2.3, 1.3, 0.6}}}}};
@@ -148,6 +148,12 @@ TEST_F(ReachNearField, TheNearFieldFlowsInAtTheReachsVelocity) {
   EXPECT_NEAR(double(scene.config.terrain->reach->heading), 90, 1);
   EXPECT_NEAR(double(terrain.height_at(1, 0)), flume_bed(8, 1.2) - level, 0.01);
   EXPECT_NEAR(double(terrain.height_at(1, 0.6)), flume_bed(8, 1.8) - level, 0.01);
+  // The box's sides are walls: above the water however wide the flume's water is there.
+  for (Real y : {terrain.origin_y, terrain.max_y()}) {
+    EXPECT_GT(double(terrain.height_at(1, y)), 0.05) << y;
+    EXPECT_FALSE(terrain.is_water(1, y)) << y;
+  }
+  EXPECT_TRUE(flow.plug);
 
   Simulation sim(scene.config);
   const double frame_dt = double(scene.config.output.frame_dt);
@@ -172,6 +178,37 @@ TEST_F(ReachNearField, TheNearFieldFlowsInAtTheReachsVelocity) {
   EXPECT_NEAR(near_velocity, reach_velocity, 0.1 * reach_velocity);
 }
 
+// A box narrower than the river (0.6 m across the flume's 0.8 m bed, so water reaches both of its
+// sides): its sides are walls, no water leaves over them, and the water still flows at the
+// reach's speed. Without the walls the water ran off the terrain's edges.
+TEST_F(ReachNearField, ABoxNarrowerThanTheRiverIsWalledAlongItsSides) {
+  nlohmann::json s = scene_json();
+  s["terrain"]["reach"]["width"] = 0.6;
+  const LoadedScene scene = load(s);
+  const Terrain& terrain = *scene.config.terrain_grid;
+  EXPECT_TRUE(terrain.is_water(1, 0));
+  Simulation sim(scene.config);
+  const FlowConfig& flow = *scene.config.flow;
+  const double frame_dt = double(scene.config.output.frame_dt);
+  double sum = 0;
+  long samples = 0;
+  for (int frame = 1; frame <= 30; ++frame) {
+    sim.advance_to(frame * frame_dt, frame);
+    if (frame * frame_dt < 1) continue;
+    const FluidParticles& f = sim.fluid();
+    for (Index i = 0; i < f.active_count(); ++i) {
+      ASSERT_GT(f.position[i].y(), terrain.origin_y) << "frame " << frame;
+      ASSERT_LT(f.position[i].y(), terrain.max_y()) << "frame " << frame;
+      if (f.position[i].x() > flow.inflow_x + flow.buffer && f.position[i].x() < Real(1.5)) {
+        sum += double(f.velocity[i].x());
+        ++samples;
+      }
+    }
+  }
+  EXPECT_EQ(sim.flow()->fallen(), 0);
+  EXPECT_NEAR(sum / double(samples), double(flow.speed), 0.1 * double(flow.speed));
+}
+
 // What the reach gives may be left out or given as it is; anything else is refused, naming the
 // key, as is a box off the reach.
 TEST_F(ReachNearField, RefusesSettingsTheReachGivesAndABoxOffIt) {
@@ -187,6 +224,18 @@ TEST_F(ReachNearField, RefusesSettingsTheReachGivesAndABoxOffIt) {
   s = scene_json();
   s["terrain"]["reach"]["centre"] = {kX0 + 15.5, kY0 + 1.2};
   EXPECT_NE(refusal(s).find("/terrain/reach/centre: the box's corner"), std::string::npos);
+  // The inflow buffer must outreach the kernel (support 0.08 m + spacing 0.04 m here); the plug
+  // is on unless given.
+  s = scene_json();
+  s["flow"]["buffer"] = 0.1;
+  EXPECT_NE(refusal(s).find("/flow/buffer: expected at least the kernel's support plus a particle "
+                            "spacing (0.12 m)"),
+            std::string::npos)
+      << refusal(s);
+  s = scene_json();
+  s["flow"]["plug"] = false;
+  EXPECT_EQ(refusal(s), "");
+  EXPECT_FALSE(load(s).config.flow->plug);
   s = scene_json();
   s["terrain"]["reach"]["run"] = "nowhere";
   EXPECT_NE(refusal(s).find("/terrain/reach/run"), std::string::npos);

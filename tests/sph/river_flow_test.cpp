@@ -83,7 +83,7 @@ TEST(RiverFlow, ReleasesLayersRetiresAndRecyclesWater) {
   fluid.oil_fraction[1] = 1;
   const Index water_id = fluid.id[0], oil_id = fluid.id[1];
   const double t_retire = 3.5 * interval;
-  flow.after_step(fluid, t_retire);
+  flow.after_step(fluid, t_retire, 0);
   EXPECT_EQ(flow.retired(), 2);
   EXPECT_EQ(fluid.active_count(), 3 * layer - 2);
   for (Index i = 0; i < fluid.active_count(); ++i) {
@@ -118,9 +118,45 @@ TEST(RiverFlow, RecycledWaterReentersAfterItsCooldown) {
   // Every particle leaves at once, at t = 2 intervals; the next layer is due at 3 intervals but
   // the particles are free only 2 frames after leaving.
   for (Index i = 0; i < fluid.active_count(); ++i) fluid.position[i].x() = 1.6f;
-  flow.after_step(fluid, 2 * interval);
+  flow.after_step(fluid, 2 * interval, 0);
   EXPECT_EQ(fluid.active_count(), 0u);
   EXPECT_THROW(flow.emit(fluid, 3 * interval), SimulationError);
+}
+
+// With `plug`, the inflow buffer's water moves along x as a plug: whatever the solver did to a
+// particle there within the step (friction at the bed slowed it), after the step it has moved
+// along x by the inflow speed times the step, keeps the solver's motion across and up (the bed
+// and banks push it), and moves at the inflow velocity; water past the buffer keeps the solver's
+// motion. Without `plug` the buffer's positions are the solver's.
+TEST(RiverFlow, TheInflowBufferMovesAsAPlug) {
+  const Terrain t = generate_river(straight_river());
+  FlowConfig config = flow_config();
+  config.buffer = Real(0.2);
+  const double interval = double(kSpacing) / 1.5;
+  const Real dt = Real(1e-3);
+  const Vec3 start0(Real(0.1), 0, Real(-0.2)), start1(Real(0.5), 0, Real(-0.2));
+  const Vec3 solver_velocity(Real(0.3), Real(0.1), Real(0.4));
+  const Vec3 held(Real(1.5), 0, 0);
+  for (bool plug : {true, false}) {
+    config.plug = plug;
+    RiverFlow flow(config, t, 0, kSpacing, Real(1.25e-4), water(), kFrameDt);
+    FluidParticles fluid;
+    flow.allocate(fluid);
+    flow.emit(fluid, 1.5 * interval);
+    ASSERT_GE(fluid.active_count(), 2u);
+    // As the solver left them: particle 0 inside the buffer slowed and lifted, 1 past it.
+    fluid.position[0] = start0 + solver_velocity * dt;
+    fluid.velocity[0] = solver_velocity;
+    fluid.position[1] = start1 + solver_velocity * dt;
+    fluid.velocity[1] = solver_velocity;
+    flow.after_step(fluid, 1.5 * interval, dt);
+    const Vec3 moved =
+        plug ? Vec3(held.x(), solver_velocity.y(), solver_velocity.z()) * dt : solver_velocity * dt;
+    EXPECT_LT((fluid.position[0] - (start0 + moved)).norm(), 1e-6) << "plug " << plug;
+    EXPECT_LT((fluid.velocity[0] - held).norm(), 1e-6) << "plug " << plug;
+    EXPECT_LT((fluid.position[1] - (start1 + solver_velocity * dt)).norm(), 1e-6);
+    EXPECT_LT((fluid.velocity[1] - solver_velocity).norm(), 1e-6);
+  }
 }
 
 // A forecast whose reach returns too little water goes on with less inflow: a layer the pool
