@@ -23,6 +23,7 @@ fi
 if [[ "${SPILL_CMAKE_ARGS:-}" != *SPILL_WITH_TORCH=OFF* ]]; then
   packages+=(
     libtorch-dev libopenblas0-pthread libgoogle-perftools-dev
+    libgloo-dev  # c10d's ProcessGroupGloo header: spill-train's data-parallel training
     python3-torch  # tests/gnn/gns_reference.py: the plain-PyTorch GNS our model is tested against
   )
 fi

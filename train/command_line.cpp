@@ -103,6 +103,11 @@ void add_training_options(CLI::App& app, TrainCommandLine& c) {
                  "override a training config value: /pointer=value (e.g. /steps=200, "
                  "/model/latent=64)");
   app.add_option("--device", device, "where the model trains: cpu (default) or cuda[:N]");
+  app.add_option("--collective-timeout", c.collective_timeout_s,
+                 "under torchrun or srun (data-parallel): seconds a rank waits for the others "
+                 "in a collective before it stops with an error")
+      ->capture_default_str()
+      ->check(CLI::Range(1.0, 86400.0));
   app.footer(
       "With --scene the trajectories are simulated in this process, as `spill-sim generate` "
       "simulates them for the same options (the same draws from --seed, splits, warm-up and "
@@ -121,7 +126,18 @@ void run_training(TrainCommandLine& c) {
   std::vector<std::string>& vary = c.vary;
   std::string& device = c.device;
   gnn::configure_runtime({threads, blas_threads});
-  options.log = &std::cerr;
+  // Under torchrun or srun: join the other ranks (train/data_parallel.h); rank 0 alone prints.
+  const LaunchEnvironment launch = read_launch_environment();
+  std::unique_ptr<DataParallel> parallel;
+  if (launch.world > 1) {
+    parallel = DataParallel::connect(
+        launch, std::chrono::milliseconds(std::int64_t(c.collective_timeout_s * 1000)));
+    options.parallel = parallel.get();
+    if (launch.rank == 0)
+      std::cerr << "data-parallel: " << launch.world << " ranks (" << launch.launcher
+                << "), rank 0 writes " << options.out_dir << "\n";
+  }
+  options.log = launch.rank == 0 ? &std::cerr : nullptr;
   options.terminal = isatty(2);
   options.out_dir = common::normalise_output_path(options.out_dir).string();
   options.device = gnn::parse_device(device);
@@ -130,7 +146,7 @@ void run_training(TrainCommandLine& c) {
     for (const auto& v : vary) scene.generate.vary.push_back(sph::parse_parameter_range(v));
     scene.generate.split = sph::parse_split(split);
     scene.generate.threads = threads;
-    scene.generate.log = &std::cerr;
+    scene.generate.log = options.log;
     scene.generate.stop = options.stop;  // an interrupted simulation writes no --save-data
     if (!scene.save_dir.empty() &&
         common::normalise_output_path(scene.save_dir).string() == options.out_dir)
@@ -146,11 +162,13 @@ void run_training(TrainCommandLine& c) {
     const gnn::GraphModel& model = trainer->simulator().model();
     const gnn::RuntimeSettings mix = gnn::training_runtime(threads, model.trains_in_chunks());
     gnn::configure_runtime(mix);
-    std::cerr << "threads: " << mix.threads << " LibTorch, " << mix.blas_threads
-              << " BLAS (the measured best split for " << model.name() << " on " << threads
-              << ")\n";
+    if (launch.rank == 0)
+      std::cerr << "threads: " << mix.threads << " LibTorch, " << mix.blas_threads
+                << " BLAS (the measured best split for " << model.name() << " on " << threads
+                << ")\n";
   }
   const double loss = trainer->run();
+  if (launch.rank != 0) return;
   std::cout << "trained to step " << trainer->step() << ", loss " << loss << "; run in "
             << options.out_dir << "\n";
 }

@@ -19,6 +19,7 @@ struct TrainCommandLine {
   std::string split = "0.8/0.1/0.1";
   std::vector<std::string> vary;
   std::string device = "cpu";
+  double collective_timeout_s = 300;  // a data-parallel launch: how long a rank waits for the rest
   CLI::Option* scene_option = nullptr;  // --scene: simulate the data in this process
 };
 

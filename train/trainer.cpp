@@ -94,6 +94,17 @@ Trainer::Trainer(TrainerOptions options, const std::function<TrainingData()>& lo
     if (state_.noise_generator_state.defined())
       noise_generator_.set_state(state_.noise_generator_state);
   }
+  if (DataParallel* parallel = options_.parallel) {
+    if (config_.training.batch_size < parallel->world())
+      throw common::ConfigError(
+          options_.config_file, "/batch_size",
+          std::to_string(config_.training.batch_size) + " windows cannot be shared by " +
+              std::to_string(parallel->world()) + " ranks: every rank needs at least one");
+    // Seeded alike, the ranks start alike; rank 0's weights make sure of it.
+    std::vector<torch::Tensor> state = simulator_->model().parameters();
+    for (const auto& b : simulator_->model().buffers()) state.push_back(b);
+    parallel->broadcast_from_first(state);
+  }
 }
 
 // The run's data, checked for the windows training and validation take.
@@ -229,6 +240,8 @@ TrainingBatch Trainer::sample_batch() {
   const int64_t push = c.pushforward_steps;
   std::vector<gnn::GraphInput> graphs;
   std::vector<torch::Tensor> targets, masks, fraction_targets;
+  const int world = options_.parallel ? options_.parallel->world() : 1;
+  const int rank = options_.parallel ? options_.parallel->rank() : 0;
   for (int b = 0; b < c.batch_size; ++b) {
     const auto& t = train_[std::uniform_int_distribution<size_t>(0, train_.size() - 1)(sampler_)];
     // Loss frame: a full window of recorded history behind the pushed-forward start.
@@ -238,6 +251,13 @@ TrainingBatch Trainer::sample_batch() {
     if (push > 0) {  // only particles present through the whole unroll
       auto present = t.active.slice(0, frame - push, frame + 2).index_select(1, ids).all(0);
       ids = ids.index({present});
+    }
+    if (b % world != rank) {
+      // Another rank's window: its noise is drawn all the same, so that every rank's streams
+      // stay those of one process (and a checkpoint resumes at any world size).
+      gnn::random_walk_noise(torch::zeros({ids.size(0), gnn::kWindow, 3}),
+                             simulator_->model().noise_std(), noise_generator_);
+      continue;
     }
     auto history = gnn::position_history(t, frame - push, ids, metadata_.frame_dt);
     auto fraction = t.oil_fraction[frame - push].index_select(0, ids);
@@ -297,7 +317,10 @@ void Trainer::validate(double& one_step_loss, double& rollout_mse) {
   double sum = 0;
   int count = 0;
   // Fixed frames spread over the valid trajectories, without noise: the same set every time.
+  const int world = options_.parallel ? options_.parallel->world() : 1;
+  const int rank = options_.parallel ? options_.parallel->rank() : 0;
   for (int k = 0; k < c.validation_samples; ++k) {
+    if (k % world != rank) continue;  // another rank's sample
     const auto& t = valid_[size_t(k) % valid_.size()];
     const int64_t span = t.frames() - 1 - gnn::kWindow;
     const int64_t frame =
@@ -313,6 +336,12 @@ void Trainer::validate(double& one_step_loss, double& rollout_mse) {
     sum +=
         (simulator_->predict_normalised(nodes) - target).pow(2).index({keep}).mean().item<double>();
     ++count;
+  }
+  if (options_.parallel) {
+    std::vector<double> totals{sum, double(count)};
+    options_.parallel->sum(totals);
+    sum = totals[0];
+    count = int(totals[1]);
   }
   one_step_loss = sum / count;
   const auto& t = valid_.front();
@@ -361,7 +390,7 @@ double Trainer::run() {
     return train_steps();
   } catch (...) {
     std::error_code ec;
-    if (new_folder && !fs::exists(checkpoint_path(options_.out_dir), ec))
+    if (writes() && new_folder && !fs::exists(checkpoint_path(options_.out_dir), ec))
       fs::remove_all(options_.out_dir, ec);
     throw;
   }
@@ -370,6 +399,7 @@ double Trainer::run() {
 // The run folder with its log.csv (a resumed run's cut back to its checkpoint's step) and, for a
 // new run, config.json. Returns the log file.
 std::string Trainer::open_run_folder() const {
+  if (!writes()) return "";  // rank 0 writes the run folder
   std::error_code ec;
   fs::create_directories(options_.out_dir, ec);
   if (ec)
@@ -416,9 +446,28 @@ double Trainer::gradient_step(double lr) {
   optimizer_->zero_grad();
   auto l = loss(batch);
   l.backward();
+  double value = l.item<double>();
+  if (DataParallel* parallel = options_.parallel) {
+    // The loss is a mean over the share's loss terms (particles): weighted by their count, the
+    // summed gradients and loss are those of the mean over the whole batch.
+    const auto start = std::chrono::steady_clock::now();
+    const double terms = double(batch.mask.sum().item<int64_t>());
+    std::vector<double> totals{terms, value * terms};
+    parallel->sum(totals);
+    parallel->sum_weighted_gradients(simulator_->model().parameters(), terms / totals[0]);
+    value = totals[1] / totals[0];
+    collective_s_ +=
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    ++collective_steps_;
+  }
   optimizer_->step();
+  if (options_.parallel) {
+    // Batch normalisation's running statistics saw only this rank's share: rank 0's are kept,
+    // as DistributedDataParallel does.
+    const auto buffers = simulator_->model().buffers();
+    if (!buffers.empty()) options_.parallel->broadcast_from_first(buffers);
+  }
   ++state_.step;
-  const double value = l.item<double>();
   if (!std::isfinite(value))
     throw std::runtime_error(options_.config_file + ": training diverged: the loss is " +
                              std::to_string(value) + " at step " + std::to_string(state_.step) +
@@ -474,7 +523,7 @@ double Trainer::train_steps() {
         log << ",";
       }
       log << "\n";
-      common::append_to_file(log_file, log.str());
+      if (writes()) common::append_to_file(log_file, log.str());
       log.str("");
       if (progress) {
         std::ostringstream d;
@@ -489,12 +538,27 @@ double Trainer::train_steps() {
     if (state_.step % c.checkpoint_every == 0 || state_.step == c.steps) {
       state_.elapsed_s = elapsed();
       log.flush();
-      save(checkpoint_path(options_.out_dir));
+      if (writes()) {
+        save(checkpoint_path(options_.out_dir));
+        write_loss_plot();
+      }
       kept_step = state_.step;
-      write_loss_plot();
     }
   }
   if (progress) progress->finish("step " + std::to_string(state_.step));
+  if (options_.parallel && collective_steps_ > 0) {
+    int64_t floats = 0;
+    for (const auto& p : simulator_->model().parameters()) floats += p.numel();
+    // The allreduce alone, every rank ready (the step's figure includes waiting for the slower
+    // rank's share); all ranks take part. Read by scripts/distributed_bench.py.
+    const double alone = options_.parallel->time_allreduce(floats, 20);
+    if (options_.log)
+      *options_.log << "data-parallel: gradient allreduce of " << floats << " floats over "
+                    << options_.parallel->world()
+                    << " ranks: " << 1e3 * collective_s_ / double(collective_steps_)
+                    << " ms a step over " << collective_steps_ << " steps, waiting included; "
+                    << 1e3 * alone << " ms alone\n";
+  }
   return last_loss;
 }
 

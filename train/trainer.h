@@ -21,6 +21,7 @@
 #include "gnn/models/learned_simulator.h"
 #include "gnn/training/checkpoint.h"
 #include "gnn/training/objective.h"
+#include "train/data_parallel.h"
 #include "train/training_config.h"
 
 namespace train {
@@ -39,6 +40,13 @@ struct TrainerOptions {
   // Set by Ctrl-C or SIGTERM (common/stop_signals.h): the run stops before its next step and
   // keeps its last checkpoint (a new run without one is removed); null: never.
   const std::atomic<bool>* stop = nullptr;
+  // The process group of a data-parallel launch (train/data_parallel.h); null: one process.
+  // Every rank draws the same global batches from the seeded streams and trains on its share
+  // (windows b with b mod world = rank); the gradients are summed weighted by each share's loss
+  // terms, so a step is the one-process step on the whole batch. Rank 0 alone writes the run
+  // folder and prints; the checkpoint's streams are every rank's, so a run resumes at any world
+  // size.
+  DataParallel* parallel = nullptr;
 };
 
 using gnn::TrainingBatch;
@@ -65,12 +73,14 @@ class Trainer {
   double run();
   // The objective's total loss of one batch (with autograd).
   torch::Tensor loss(const TrainingBatch& batch);
+  // This process's share of the next global batch (all of it without a process group).
   TrainingBatch sample_batch();
   gnn::LearnedSimulator& simulator() { return *simulator_; }
   int64_t step() const { return state_.step; }
 
  private:
   double train_steps();  // run() without the clean-up of a failed new run folder
+  bool writes() const { return !options_.parallel || options_.parallel->rank() == 0; }
   double gradient_step(double lr);
   std::string open_run_folder() const;
   void stop_if_requested(int64_t kept_step) const;
@@ -98,6 +108,8 @@ class Trainer {
   gnn::TrainingState state_;
   std::mt19937_64 sampler_;
   torch::Generator noise_generator_;
+  double collective_s_ = 0;  // time in the data-parallel sums and gradient allreduce
+  int64_t collective_steps_ = 0;
 };
 
 }  // namespace train
