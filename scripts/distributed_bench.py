@@ -4,7 +4,7 @@
 frames, the gradient allreduce's time a step, and a projection to N machines. Prints JSON.
 
   python3 scripts/distributed_bench.py --sim build/sph/spill-sim --train build/train/spill-train \
-      --data data/river_small_bench --steps 40 --repeats 3 --out docs/results/distributed_bench.json
+      --data data/river_small_bench --steps 100 --repeats 3 --out docs/results/distributed_bench.json
 
 The global batch is the config's /batch_size (here 2 windows): one process takes both, each of
 two ranks one, so the speed-up is steps/s on 2 ranks over steps/s on 1 and the efficiency half
@@ -100,7 +100,7 @@ def main():
     p.add_argument("--sim", required=True)
     p.add_argument("--train", required=True)
     p.add_argument("--data", required=True, help="river_small dataset (made if missing)")
-    p.add_argument("--steps", type=int, default=40)
+    p.add_argument("--steps", type=int, default=100)
     p.add_argument("--repeats", type=int, default=3, help="runs of each, alternating")
     p.add_argument("--out", help="also write the JSON here")
     args = p.parse_args()

@@ -17,6 +17,7 @@ packages=(
 # The test suite opens report.html in headless Chromium (scripts/test.sh sets this).
 if [ "${SPILL_TEST_PACKAGES:-0}" = "1" ]; then
   packages+=(chromium)
+  packages+=(hdf5-tools)  # h5diff: a sharded generation's splits against one process's
 fi
 # The learning stack; a simulator-only build (SPILL_CMAKE_ARGS=-DSPILL_WITH_TORCH=OFF) needs none
 # of it, LibTorch's 2 GB included.

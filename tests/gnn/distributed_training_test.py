@@ -12,14 +12,16 @@ batch of 4 windows, 20 steps):
     rank 0 writes the run folder; the same with Slurm's variables (SLURM_PROCID, SLURM_NTASKS),
     as srun sets them;
   - under PyTorch's own launcher (python3 -m torch.distributed.run, Debian's python3-torch), the
-    same; skipped with the reason when that launcher is not installed;
+    same, and after 5 steps of a global batch of 2 GNS's weights equal one process's to 1e-5
+    relative; skipped with the reason when that launcher is not installed;
   - two ranks as two hosts, each in a network namespace of its own joined by a veth pair (the
     store and Gloo over that interface): the same losses; skipped with the reason where network
     namespaces cannot be made (they need root);
   - a run of two ranks to step 10, resumed by one process to step 20, ends as the reference
     (within 1e-3 relative): the checkpoint holds every rank's streams;
   - a launch without MASTER_ADDR exits 2 naming it; a rank killed mid-run makes the other stop
-    within its --collective-timeout with an error naming its rank, leaving no temporary file.
+    within its --collective-timeout with an error naming its rank, leaving no temporary file and
+    a last checkpoint that one process resumes.
 """
 
 import csv
@@ -105,6 +107,27 @@ def two_hosts():
     return hosts
 
 
+def weights_differ(python, a, b):
+    """The largest difference of a weight between two checkpoints, relative to the model's
+    largest weight (read with Debian's PyTorch: a checkpoint is a TorchScript archive, the
+    parameters under "param:..."). Relative to the model's scale, not each tensor's: a layer
+    norm's bias starts at 0 and is 5e-3 after 5 steps, where the sum's rounding (5e-8) is
+    1.2e-5 of it."""
+    script = (
+        "import sys, torch\n"
+        "a = dict(torch.jit.load(sys.argv[1]).named_parameters())\n"
+        "b = dict(torch.jit.load(sys.argv[2]).named_parameters())\n"
+        "keys = [k for k in a if k.startswith('param:')]\n"
+        "assert keys and sorted(keys) == sorted(k for k in b if k.startswith('param:'))\n"
+        "scale = max(float(a[k].abs().max()) for k in keys)\n"
+        "print(max(float((a[k] - b[k]).abs().max()) for k in keys) / scale)\n")
+    p = subprocess.run([python, "-c", script, a, b], capture_output=True, text=True)
+    if p.returncode != 0:
+        failures.append("reading the checkpoints: " + p.stderr[-1000:])
+        return float("inf")
+    return float(p.stdout)
+
+
 def launch_ranks(train, args, world, extra_env=None, port=None):
     """Starts `world` processes as torchrun would, without it; returns them."""
     port = port or free_port()
@@ -179,6 +202,21 @@ def main():
             check(p.returncode == 0, f"torchrun: exit {p.returncode}: {p.stderr[-2000:]}")
             if p.returncode == 0:
                 same_losses(expected, read_log(launched), 1e-4, "torchrun")
+            # GNS's weights after 5 steps of a global batch of 2: two ranks under torchrun
+            # against one process.
+            five = ["--set", "/steps=5", "--set", "/batch_size=2", "--set", "/checkpoint_every=5"]
+            alone, shared = os.path.join(work, "five_one"), os.path.join(work, "five_two")
+            subprocess.run([train, *args(alone), *five], check=True, env=plain_env(),
+                           capture_output=True)
+            p = subprocess.run([python, "-m", "torch.distributed.run", "--no_python",
+                                "--nproc_per_node", "2", "--master_port", str(free_port()),
+                                "--redirects", "2", "--tee", "2", train, *args(shared), *five],
+                               env=plain_env(), capture_output=True, text=True, timeout=600)
+            check(p.returncode == 0, f"torchrun, 5 steps: exit {p.returncode}: {p.stderr[-2000:]}")
+            if p.returncode == 0:
+                worst = weights_differ(python, os.path.join(alone, "last.pt"),
+                                       os.path.join(shared, "last.pt"))
+                check(worst <= 1e-5, f"weights after 5 steps differ by {worst} (relative)")
         else:
             print("skipped: torchrun (python3-torch is not installed)")
 
@@ -224,8 +262,8 @@ def main():
         dying = os.path.join(work, "dying")
         procs = launch_ranks(train, args(dying, 100000, "--collective-timeout", "20"), 2)
         deadline = time.time() + 120
-        while time.time() < deadline and not (os.path.exists(os.path.join(dying, "log.csv"))
-                                              and len(read_log(dying)) >= 2):
+        while time.time() < deadline and not (os.path.exists(os.path.join(dying, "last.pt"))
+                                              and len(read_log(dying)) >= 7):
             time.sleep(0.2)
         procs[1].send_signal(signal.SIGKILL)
         start = time.time()
@@ -241,6 +279,12 @@ def main():
         check(time.time() - start < 45, f"rank 0 took {time.time() - start:.0f} s to stop")
         left = [n for n in os.listdir(dying) if "tmp" in n] if os.path.exists(dying) else []
         check(not left, f"temporary files left: {left}")
+        # Its last checkpoint loads: one process resumes it for two more steps.
+        kept = max(int(r["step"]) for r in read_log(dying) if int(r["step"]) % 10 == 0)
+        p = subprocess.run([train, *args(dying, kept + 2, "--resume")], env=plain_env(),
+                           capture_output=True, text=True)
+        check(p.returncode == 0 and f"trained to step {kept + 2}" in p.stdout,
+              f"the dead run's checkpoint (step {kept}) did not resume: {p.stderr[-1000:]}")
     finally:
         shutil.rmtree(work, ignore_errors=True)
     if failures:

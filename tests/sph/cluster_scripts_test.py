@@ -12,6 +12,8 @@ On a tiny scene of 5 trajectories:
     failed), submits 3 shards (the array 0-2) and the assembling job: the dataset again equals
     the reference, the array tasks ran with --shard left to the environment, and no temporary
     file is left;
+  - river_small, 4 trajectories, as 3 shards side by side: train.h5, valid.h5 and test.h5 equal
+    one process's (h5diff) and the metadata too, apart from wall times;
   - refusals: assembling a folder with a shard missing names the missing trajectories (exit 2);
     a shard of another request names the key that differs (exit 2); an array task id outside the
     array, --shard 3/3 and --shard given to the submit script exit 2.
@@ -147,6 +149,28 @@ def main():
         for folder in (slurm_dir, os.path.join(slurm_dir, "parts"), local_dir):
             left = [n for n in os.listdir(folder) if ".tmp" in n]
             check(not left, f"temporaries left in {folder}: {left}")
+
+        # The small river, 4 trajectories, as 3 shards side by side: the split files equal one
+        # process's (h5diff), and so does the metadata apart from wall times.
+        river = ["--scene", os.path.join(source, "configs", "scenes", "river_small.json"),
+                 "--trajectories", "4", "--frames", "8", "--split", "0.5/0.25/0.25", "--seed",
+                 "5", "--vary", "/leaks/0/rate=0.002:0.005"]
+        river_one, river_shards = os.path.join(work, "river_one"), os.path.join(work, "river3")
+        run([sim, "generate", *river, "--out", river_one], env)
+        run(["bash", os.path.join(cluster, "generate_local.sh"), "3", *river, "--out",
+             river_shards], env)
+        for split in ("train.h5", "valid.h5", "test.h5"):
+            p = run(["h5diff", os.path.join(river_one, split), os.path.join(river_shards, split)])
+            check(p.returncode == 0, f"h5diff {split}: {p.stdout[-500:]}")
+        with open(os.path.join(river_one, "metadata.json")) as f:
+            one = json.load(f)
+        with open(os.path.join(river_shards, "metadata.json")) as f:
+            three = json.load(f)
+        for meta in (one, three):
+            for t in meta["trajectories"]:
+                t.pop("sph_seconds_per_frame", None)
+                t.pop("sph_wall_s", None)
+        check(one == three, "river_small: the sharded metadata differs (apart from wall times)")
 
         # Refusals.
         partial = os.path.join(work, "partial")

@@ -209,6 +209,24 @@ TEST_F(ReachNearField, ABoxNarrowerThanTheRiverIsWalledAlongItsSides) {
   EXPECT_NEAR(sum / double(samples), double(flow.speed), 0.1 * double(flow.speed));
 }
 
+// The shipped near field (configs/near_field/white_river_leak.json) reads strictly: with its
+// reach run made (runs/white_river_steady) it loads; without it, the only complaint is the run.
+TEST(ReachNearFieldConfig, TheShippedWhiteRiverLeakLoadsOrNamesItsMissingRun) {
+  const std::string file =
+      std::string(SPILL_SOURCE_DIR) + "/configs/near_field/white_river_leak.json";
+  const bool run_made =
+      fs::exists(std::string(SPILL_SOURCE_DIR) + "/runs/white_river_steady/reach.json");
+  try {
+    const LoadedScene scene = load_scene(file);
+    EXPECT_TRUE(run_made);
+    EXPECT_NEAR(double(scene.config.terrain->reach->heading), 224, 1);
+    EXPECT_TRUE(scene.config.flow->plug);
+  } catch (const common::ConfigError& e) {
+    EXPECT_FALSE(run_made) << e.what();
+    EXPECT_EQ(e.pointer(), "/terrain/reach/run") << e.what();
+  }
+}
+
 // What the reach gives may be left out or given as it is; anything else is refused, naming the
 // key, as is a box off the reach.
 TEST_F(ReachNearField, RefusesSettingsTheReachGivesAndABoxOffIt) {
