@@ -31,4 +31,17 @@ double Hydrograph::peak() const {
   return peak;
 }
 
+double Hydrograph::integral(double a, double b) const {
+  if (!(b > a)) return 0;
+  // Trapezoids between a, the points inside (a, b) and b: exact for a piecewise-linear series.
+  double sum = 0, t_prev = a, v_prev = at(a);
+  for (const auto& [t, v] : points_) {
+    if (t <= a || t >= b) continue;
+    sum += 0.5 * (v_prev + v) * (t - t_prev);
+    t_prev = t;
+    v_prev = v;
+  }
+  return sum + 0.5 * (v_prev + at(b)) * (b - t_prev);
+}
+
 }  // namespace reach

@@ -16,6 +16,8 @@ class Hydrograph {
 
   double at(double t) const;
   double peak() const;
+  // The integral over [a, b] (exact for the piecewise-linear series; 0 when b <= a).
+  double integral(double a, double b) const;
   const std::vector<std::pair<double, double>>& points() const { return points_; }
 
  private:

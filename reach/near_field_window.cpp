@@ -9,6 +9,7 @@
 
 #include "common/config_error.h"
 #include "common/json_file.h"
+#include "reach/grid_sampling.h"
 #include "reach/raster.h"
 
 namespace reach {
@@ -19,25 +20,6 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 const double kNan = std::numeric_limits<double>::quiet_NaN();
-
-// Bilinear between the centres of the valid (finite) cells around (x, y), their weights
-// renormalised; NaN when none of the four is valid.
-double bilinear(const Field& values, const Grid& g, double x, double y) {
-  const double fx = (x - g.x0) / g.dx - 0.5, fy = (y - g.y0) / g.dy - 0.5;
-  const int i0 = int(std::floor(fx)), j0 = int(std::floor(fy));
-  const double tx = fx - i0, ty = fy - j0;
-  double sum = 0, weight = 0;
-  for (int dj = 0; dj < 2; ++dj)
-    for (int di = 0; di < 2; ++di) {
-      const int i = std::clamp(i0 + di, 0, g.nx - 1), j = std::clamp(j0 + dj, 0, g.ny - 1);
-      const double v = values[g.at(i, j)];
-      const double w = (di ? tx : 1 - tx) * (dj ? ty : 1 - ty);
-      if (!std::isfinite(v) || w <= 0) continue;
-      sum += w * v;
-      weight += w;
-    }
-  return weight > 0 ? sum / weight : kNan;
-}
 
 std::string point_text(double east, double north) {
   std::ostringstream s;
@@ -137,10 +119,10 @@ NearFieldWindow sample_near_field(const NearFieldRequest& q) {
     for (int b = 0; b <= 20; ++b)
       for (int a = 0; a <= 20; ++a) {
         const double x = q.centre_x - half + a * half / 10, y = q.centre_y - half + b * half / 10;
-        const double h = bilinear(depth.values, g, x, y);
+        const double h = bilinear_valid(depth.values, g, x, y);
         if (!(h > q.min_depth)) continue;
-        sx += bilinear(qx, g, x, y);
-        sy += bilinear(qy, g, x, y);
+        sx += bilinear_valid(qx, g, x, y);
+        sy += bilinear_valid(qy, g, x, y);
         sh += h;
       }
     if (!(sh > 0) || std::hypot(sx, sy) < 1e-3 * sh)
@@ -176,15 +158,15 @@ NearFieldWindow sample_near_field(const NearFieldRequest& q) {
       double e = 0, n = 0;
       w.to_map(w.x(i), w.y(j), e, n);
       const size_t k = w.at(i, j);
-      w.bed[k] = bilinear(bed.values, g, e, n);
+      w.bed[k] = bilinear_valid(bed.values, g, e, n);
       if (!std::isfinite(w.bed[k]))
         throw refuse("/centre", "the box reaches closed or nodata cells of the reach at " +
                                     point_text(e, n) + " (" + q.run_dir + "/bed.tif)");
-      const double h = bilinear(depth.values, g, e, n);
+      const double h = bilinear_valid(depth.values, g, e, n);
       w.depth[k] = std::isfinite(h) ? std::max(h, 0.0) : 0.0;
       if (w.depth[k] > q.min_depth) {
         wet = true;
-        const double fx = bilinear(qx, g, e, n), fy = bilinear(qy, g, e, n);
+        const double fx = bilinear_valid(qx, g, e, n), fy = bilinear_valid(qy, g, e, n);
         w.along[k] = (fx * ex + fy * ey) / w.depth[k];
         w.across[k] = (-fx * ey + fy * ex) / w.depth[k];
       }

@@ -1,0 +1,31 @@
+#pragma once
+// The river's centreline, a polyline in map coordinates from upstream to downstream: where along
+// the river (km from its first point) and on which side (left or right bank, looking downstream)
+// a point lies. Leading edges, arrivals and stranded oil per km are read on it.
+
+#include <string>
+#include <vector>
+
+namespace farfield {
+
+struct RiverPosition {
+  double along_m = 0;   // distance along the centreline from its first point
+  double offset_m = 0;  // signed distance from it: > 0 on the left bank's side
+};
+
+class Centreline {
+ public:
+  Centreline() = default;
+  // At least two points, no two equal in a row; throws std::invalid_argument otherwise.
+  explicit Centreline(std::vector<std::pair<double, double>> points);
+  // The nearest point of the polyline; beyond its ends, along the end segments' extensions.
+  RiverPosition locate(double x, double y) const;
+  double length() const { return cumulative_.empty() ? 0 : cumulative_.back(); }
+  const std::vector<std::pair<double, double>>& points() const { return points_; }
+
+ private:
+  std::vector<std::pair<double, double>> points_;
+  std::vector<double> cumulative_;  // distance to each point
+};
+
+}  // namespace farfield

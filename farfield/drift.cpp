@@ -1,0 +1,131 @@
+#include "farfield/drift.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "farfield/random_stream.h"
+
+namespace farfield {
+
+namespace {
+constexpr double kGravity = 9.81;
+
+bool is_water(const FlowSample& s, double min_depth) {
+  return s.where == FlowWhere::water && s.depth >= min_depth;
+}
+
+// The mixing tensor's components (D_xx, D_xy, D_yy) at a point; zero off the water.
+void diffusivity(const SurfaceFlow& flow, const DriftSettings& settings, double x, double y,
+                 double t, double& dxx, double& dxy, double& dyy) {
+  const FlowSample s = flow.sample(x, y, t);
+  if (s.where != FlowWhere::water) {
+    dxx = dxy = dyy = 0;
+    return;
+  }
+  const LocalDrift d = local_drift(s, settings);
+  dxx = d.d_along * d.ex * d.ex + d.d_across * d.ey * d.ey;
+  dxy = (d.d_along - d.d_across) * d.ex * d.ey;
+  dyy = d.d_along * d.ey * d.ey + d.d_across * d.ex * d.ex;
+}
+}  // namespace
+
+LocalDrift local_drift(const FlowSample& s, const DriftSettings& settings) {
+  LocalDrift d;
+  if (s.where != FlowWhere::water || s.depth <= 0) return d;
+  const double speed = std::hypot(s.u, s.v);
+  // Manning's friction as a drag coefficient: tau / rho = (Cf / 2) |u| u.
+  const double half_cf = kGravity * s.manning * s.manning / std::cbrt(s.depth);
+  const double shear = speed * std::sqrt(half_cf);
+  const double factor = settings.log_law ? 1 + std::sqrt(half_cf) / settings.kappa : 1.0;
+  d.u = factor * s.u;
+  d.v = factor * s.v;
+  if (speed > 0) {
+    d.ex = s.u / speed;
+    d.ey = s.v / speed;
+  }
+  if (settings.mixing) {
+    d.d_along = settings.longitudinal_mixing * s.depth * shear + settings.min_diffusivity;
+    d.d_across = settings.transverse_mixing * s.depth * shear + settings.min_diffusivity;
+  }
+  return d;
+}
+
+DriftResult drift_element(const SurfaceFlow& flow, const DriftSettings& settings, const Wind& wind,
+                          bool ice, double grid_cell, double min_depth, double t, double dt,
+                          std::uint64_t step, std::uint64_t element, double x, double y) {
+  DriftResult r;
+  r.x = r.wet_x = x;
+  r.y = r.wet_y = y;
+  const double wind_u = ice ? 0.0 : settings.wind_factor * wind.east;
+  const double wind_v = ice ? 0.0 : settings.wind_factor * wind.north;
+  const auto velocity = [&](const FlowSample& s, double& u, double& v) {
+    const LocalDrift d = local_drift(s, settings);
+    u = d.u + wind_u;
+    v = d.v + wind_v;
+  };
+
+  FlowSample here = flow.sample(x, y, t);
+  if (!is_water(here, min_depth)) {
+    r.where = here.where == FlowWhere::outside ? FlowWhere::outside : FlowWhere::bank;
+    return r;
+  }
+  double u0, v0;
+  velocity(here, u0, v0);
+  // The advection in sub-steps of at most max_cells_per_substep cells at the starting speed.
+  const int substeps = std::max(
+      1, int(std::ceil(std::hypot(u0, v0) * dt / (settings.max_cells_per_substep * grid_cell))));
+  const double h = dt / substeps;
+  const auto stop_at = [&](const FlowSample& s, double nx, double ny) {
+    r.x = nx;
+    r.y = ny;
+    r.where = s.where == FlowWhere::outside ? FlowWhere::outside : FlowWhere::bank;
+  };
+  for (int k = 0; k < substeps; ++k) {
+    const double tk = t + k * h;
+    double ua, va;
+    velocity(here, ua, va);
+    double ub = ua, vb = va;
+    const FlowSample mid = flow.sample(x + 0.5 * h * ua, y + 0.5 * h * va, tk + 0.5 * h);
+    if (is_water(mid, min_depth)) velocity(mid, ub, vb);
+    const double nx = x + h * ub, ny = y + h * vb;
+    here = flow.sample(nx, ny, tk + h);
+    if (!is_water(here, min_depth)) {
+      stop_at(here, nx, ny);
+      return r;
+    }
+    x = r.x = r.wet_x = nx;
+    y = r.y = r.wet_y = ny;
+  }
+  // The mixing: one Gaussian step of the whole dt (its variance 2 D dt is exact for any dt
+  // where D is uniform), with the drift div(D) by central differences over half a cell.
+  if (settings.mixing) {
+    const double te = t + dt;
+    const LocalDrift d = local_drift(here, settings);
+    const double delta = 0.5 * grid_cell;
+    double xx_e, xy_e, yy_e, xx_w, xy_w, yy_w, xx_n, xy_n, yy_n, xx_s, xy_s, yy_s;
+    diffusivity(flow, settings, x + delta, y, te, xx_e, xy_e, yy_e);
+    diffusivity(flow, settings, x - delta, y, te, xx_w, xy_w, yy_w);
+    diffusivity(flow, settings, x, y + delta, te, xx_n, xy_n, yy_n);
+    diffusivity(flow, settings, x, y - delta, te, xx_s, xy_s, yy_s);
+    const double div_x = (xx_e - xx_w + xy_n - xy_s) / (2 * delta);
+    const double div_y = (xy_e - xy_w + yy_n - yy_s) / (2 * delta);
+    CounterRandom random(settings.seed, step, element, 0);
+    double a, b;
+    random.normal_pair(a, b);
+    const double along = std::sqrt(2 * d.d_along * dt) * a;
+    const double across = std::sqrt(2 * d.d_across * dt) * b;
+    const double nx = x + div_x * dt + along * d.ex - across * d.ey;
+    const double ny = y + div_y * dt + along * d.ey + across * d.ex;
+    const FlowSample end = flow.sample(nx, ny, te);
+    if (!is_water(end, min_depth)) {
+      stop_at(end, nx, ny);
+      return r;
+    }
+    r.x = r.wet_x = nx;
+    r.y = r.wet_y = ny;
+  }
+  r.where = FlowWhere::water;
+  return r;
+}
+
+}  // namespace farfield

@@ -1,0 +1,183 @@
+#include "farfield/far_field_model.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "farfield/random_stream.h"
+
+namespace farfield {
+
+namespace {
+constexpr double kPi = 3.14159265358979323846;
+constexpr std::uint64_t kRefloatSalt = 0x5EF1'0A7ull;
+}  // namespace
+
+double Budget::closure_error() const {
+  if (!(released > 0)) return 0;
+  return std::abs(released - (floating + stranded + evaporated + dispersed + left_reach)) /
+         released;
+}
+
+FarFieldModel::FarFieldModel(FarFieldSetup setup) : setup_(std::move(setup)) {
+  elements_.cuts = int(setup_.oil.components.size());
+  released_.assign(setup_.releases.size(), 0);
+  bank_held_.assign(size_t(setup_.banks.bins()), 0.0);
+}
+
+double FarFieldModel::emulsion_volume(size_t e) const {
+  return oil_volume(setup_.oil, elements_, e) / (1 - elements_.water_fraction[e]);
+}
+
+void FarFieldModel::born(const ReleaseSpec& r, const std::vector<double>& birth,
+                         const std::vector<double>& volume, const std::vector<double>& along) {
+  double slick_volume = 0;
+  for (double v : volume) slick_volume += v;
+  if (!(slick_volume > 0)) return;
+  const OilRecord& oil = setup_.oil;
+  slicks_.push_back(fay_slick(slick_volume, oil.density, setup_.environment.water_density));
+  const int slick = int(slicks_.size()) - 1;
+  const double min_thickness = oil.min_thickness(setup_.environment.water_temperature_c.at(time_));
+  std::vector<double> cuts(oil.components.size());
+  for (size_t k = 0; k < birth.size(); ++k) {
+    if (!(volume[k] > 0)) continue;
+    const double mass = volume[k] * oil.density;
+    for (size_t c = 0; c < cuts.size(); ++c) cuts[c] = mass * oil.components[c].mass_fraction;
+    const double share = volume[k] / slick_volume;
+    const double area = std::min(share * slicks_.back().initial_area, volume[k] / min_thickness);
+    const double x = r.x0 + along[k] * (r.x1 - r.x0), y = r.y0 + along[k] * (r.y1 - r.y0);
+    // Born at `birth`, inside this step: a negative age until the step's start catches up.
+    elements_.add(x, y, cuts, area, slick, share, time_ - birth[k]);
+  }
+}
+
+void FarFieldModel::release(double t0, double t1) {
+  for (size_t i = 0; i < setup_.releases.size(); ++i) {
+    const ReleaseSpec& r = setup_.releases[i];
+    const int n = r.elements;
+    std::vector<double> birth, volume, along;
+    const bool instant = !(r.end > r.start);
+    const double slot = instant ? 0.0 : (r.end - r.start) / n;
+    while (released_[i] < n) {
+      const int k = released_[i];
+      const double t = instant ? r.start : r.start + (k + 0.5) * slot;
+      if (t >= t1) break;
+      birth.push_back(std::max(t, t0));
+      volume.push_back(instant ? r.rate.at(r.start) / n
+                               : r.rate.integral(r.start + k * slot, r.start + (k + 1) * slot));
+      along.push_back(n > 1 ? (k + 0.5) / n : 0.0);
+      ++released_[i];
+    }
+    if (!birth.empty()) born(r, birth, volume, along);
+  }
+}
+
+void FarFieldModel::add_element(double x, double y, double mass, double area) {
+  const OilRecord& oil = setup_.oil;
+  std::vector<double> cuts(oil.components.size());
+  for (size_t c = 0; c < cuts.size(); ++c) cuts[c] = mass * oil.components[c].mass_fraction;
+  slicks_.push_back(fay_slick(mass / oil.density, oil.density, setup_.environment.water_density));
+  elements_.add(x, y, cuts, area, int(slicks_.size()) - 1, 1.0, 0.0);
+}
+
+void FarFieldModel::step(double dt) {
+  const double t0 = time_, t1 = time_ + dt;
+  release(t0, t1);
+  const Environment& env = setup_.environment;
+  const WeatherNow weather = env.weather_at(t0 + 0.5 * dt);
+  const Wind wind = env.wind_at(t0 + 0.5 * dt);
+  const double min_thickness = setup_.oil.min_thickness(weather.water_temperature_c);
+  const SurfaceFlow& flow = *setup_.flow;
+  const double cell = flow.resolution();
+  const long n = long(elements_.size());
+  moved_.resize(size_t(n));
+  Elements& el = elements_;
+
+  // Weathering, spreading and drift of every floating element, side by side.
+#pragma omp parallel for schedule(static)
+  for (long i = 0; i < n; ++i) {
+    const size_t e = size_t(i);
+    if (el.state[e] != ElementState::floating) continue;
+    // An element born inside this step lives only its remainder.
+    const double live = std::min(dt, dt + el.age[e]);
+    const FaySlick& slick = slicks_[size_t(el.slick[e])];
+    const double share = el.slick_share[e];
+    const double slick_diameter = 2 * std::sqrt(el.area[e] / share / kPi);
+    weather_element(setup_.oil, el, e, weather, setup_.weathering, slick_diameter, live);
+    el.age[e] += dt;
+    if (setup_.spreading) {
+      const double most = el.released_mass[e] / setup_.oil.density / min_thickness;
+      el.area[e] = std::max(el.area[e], std::min(share * slick.area_at(el.age[e]), most));
+    }
+    const double min_depth = std::max(setup_.dry_depth, thickness(e));
+    moved_[e] = drift_element(flow, setup_.drift, wind, env.ice, cell, min_depth, t1 - live, live,
+                              std::uint64_t(steps_), std::uint64_t(e), el.x[e], el.y[e]);
+  }
+
+  // Stranding and leaving, in element order (the banks' capacity is shared).
+  for (size_t e = 0; e < size_t(n); ++e) {
+    if (el.state[e] != ElementState::floating) continue;
+    const DriftResult& r = moved_[e];
+    if (r.where == FlowWhere::water) {
+      el.x[e] = r.x;
+      el.y[e] = r.y;
+    } else if (r.where == FlowWhere::outside) {
+      el.x[e] = r.x;
+      el.y[e] = r.y;
+      el.state[e] = ElementState::left_reach;
+    } else {
+      el.x[e] = r.wet_x;
+      el.y[e] = r.wet_y;
+      const int bin = setup_.banks.bin_at(setup_.centreline.locate(r.wet_x, r.wet_y));
+      const double volume = emulsion_volume(e);
+      if (bank_held_[size_t(bin)] + volume <= setup_.banks.capacity_m3(bin)) {
+        bank_held_[size_t(bin)] += volume;
+        el.state[e] = ElementState::stranded;
+        el.bank_segment[e] = bin;
+        el.stranded_since[e] = t1;
+      }
+    }
+  }
+
+  // Stranded oil floats off at its bank's rate.
+  for (size_t e = 0; e < size_t(n); ++e) {
+    if (el.state[e] != ElementState::stranded || el.stranded_since[e] >= t1) continue;
+    const int bin = el.bank_segment[e];
+    const double p = 1 - std::exp2(-dt / setup_.banks.class_of(bin).refloat_half_life_s);
+    CounterRandom random(setup_.drift.seed, std::uint64_t(steps_), e, kRefloatSalt);
+    if (random.uniform() < p) {
+      bank_held_[size_t(bin)] = std::max(0.0, bank_held_[size_t(bin)] - emulsion_volume(e));
+      el.state[e] = ElementState::floating;
+      el.bank_segment[e] = -1;
+      el.stranded_since[e] = -1;
+    }
+  }
+  for (size_t e = 0; e < size_t(n); ++e)
+    if (el.state[e] != ElementState::floating) el.age[e] += dt;
+  time_ = t1;
+  ++steps_;
+}
+
+Budget FarFieldModel::budget() const {
+  Budget b;
+  const Elements& el = elements_;
+  for (size_t e = 0; e < el.size(); ++e) {
+    b.released += el.released_mass[e];
+    b.evaporated += el.evaporated_mass[e];
+    b.dispersed += el.dispersed_mass[e];
+    const double m = el.oil_mass(e);
+    switch (el.state[e]) {
+      case ElementState::floating:
+        b.floating += m;
+        break;
+      case ElementState::stranded:
+        b.stranded += m;
+        break;
+      case ElementState::left_reach:
+        b.left_reach += m;
+        break;
+    }
+  }
+  return b;
+}
+
+}  // namespace farfield

@@ -1,0 +1,216 @@
+#pragma once
+// The JSON config of a far-field forecast (`spill-sim forecast --config FILE`): the reach run
+// the oil rides on, the river's centreline, the oil, where and how fast it is released, the
+// weather, the banks, the watch points, and the time stepping. Every key is declared once below;
+// unknown keys and values out of range are errors naming the file and the JSON pointer.
+// docs/far_field.md documents them (docs/far_field_reference.md lists every key).
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "common/config_error.h"
+#include "common/config_visitors.h"
+#include "common/param_spec.h"
+#include "farfield/drift.h"
+#include "reach/reach_config.h"
+
+namespace farfield {
+
+using common::ConfigError;
+using common::param;
+using reach::SeriesConfig;
+
+inline void check_point(const std::vector<double>& p, const std::string& file,
+                        const std::string& pointer) {
+  if (p.size() != 2) throw ConfigError(file, pointer, "expected [x, y] in map coordinates");
+}
+
+struct FlowConfig {
+  std::string reach_run;
+  double start_time = -1;
+  double manning = -1;
+  double dry_depth = 0.01;
+  template <class V>
+  void describe(V& v) {
+    v.field("reach_run", reach_run,
+            param("", "Folder of a finished `spill-sim reach` run, relative to the config's folder")
+                .require());
+    v.field("start_time", start_time,
+            param("s",
+                  "The reach run's output time at which the forecast starts (< 0: its last; a "
+                  "steady run's last output holds for ever after)"));
+    v.field("manning", manning,
+            param("s/m^(1/3)", "Manning's n for the drift's log law (< 0: the reach run's)"));
+    v.field("dry_depth", dry_depth,
+            param("m", "Shallower water is shore: an element reaching it strands").positive());
+  }
+};
+
+struct ReleaseConfig {
+  std::string name = "release";
+  std::vector<double> position;  // point source
+  std::vector<double> from, to;  // line source
+  double start = 0, end = 0;     // s
+  SeriesConfig rate;             // m^3/s of oil
+  int elements = 1000;
+  template <class V>
+  void describe(V& v) {
+    v.field("name", name, param("", "Name of the release"));
+    v.field("position", position, param("m", "[x, y]: a point source, in map coordinates"));
+    v.field("from", from, param("m", "[x, y]: one end of a line source"));
+    v.field("to", to, param("m", "[x, y]: its other end"));
+    v.field("start", start, param("s", "When the release starts").non_negative());
+    v.field("end", end, param("s", "When it ends (= start: all at once)").non_negative());
+    v.field("rate", rate,
+            param("m^3/s",
+                  "Oil released per second, constant or a series (for an instantaneous release: "
+                  "the volume, m^3)")
+                .require());
+    v.field("elements", elements, param("", "Elements that carry the release").at_least(1));
+  }
+  void check(const std::string& file, const std::string& pointer) const {
+    if (position.empty() == from.empty())
+      throw ConfigError(file, pointer, "give either position (a point) or from and to (a line)");
+    if (!position.empty()) check_point(position, file, pointer + "/position");
+    if (!from.empty()) {
+      check_point(from, file, pointer + "/from");
+      check_point(to, file, pointer + "/to");
+    }
+    if (end < start) throw ConfigError(file, pointer + "/end", "expected >= start");
+  }
+};
+
+struct EnvironmentConfig {
+  SeriesConfig water_temperature;  // deg C
+  SeriesConfig wind_speed;         // m/s at 10 m
+  SeriesConfig wind_from;          // deg, where the wind comes from (meteorological)
+  std::optional<SeriesConfig> wave_height;
+  bool ice = false;
+  template <class V>
+  void describe(V& v) {
+    v.field("water_temperature", water_temperature,
+            param("deg C", "Water temperature, constant or a series").require());
+    v.field("wind_speed", wind_speed,
+            param("m/s", "Wind speed at 10 m, constant or a series").require());
+    v.field("wind_from", wind_from,
+            param("deg", "Direction the wind blows from, clockwise from north").require());
+    v.field("wave_height", wave_height,
+            param("m",
+                  "Significant wave height for natural dispersion (absent: a river's short "
+                  "fetch's, from the wind)"));
+    v.field("ice", ice, param("", "The river is under ice: no wind drift and no evaporation"));
+  }
+};
+
+struct BankClassConfig {
+  std::string name;
+  double capacity = 0.01;
+  double refloat_half_life = 24;
+  template <class V>
+  void describe(V& v) {
+    v.field("name", name, param("", "Name of the class").require());
+    v.field("capacity", capacity,
+            param("m^3/m", "Oil one metre of this bank holds").non_negative());
+    v.field("refloat_half_life", refloat_half_life,
+            param("h", "Half of the oil stranded here floats off in this time").positive());
+  }
+};
+
+struct BankStretchConfig {
+  std::string side = "right";
+  double from_km = 0, to_km = 0;
+  std::string bank_class;
+  template <class V>
+  void describe(V& v) {
+    v.field("side", side,
+            param("", "Bank, looking downstream").one_of({"left", "right", "both"}).require());
+    v.field("from_km", from_km, param("km", "Start along the centreline").require());
+    v.field("to_km", to_km, param("km", "End along the centreline").require());
+    v.field("class", bank_class, param("", "Name of the bank class").require());
+  }
+};
+
+struct BanksConfig {
+  double bin_length = 100;
+  std::vector<BankClassConfig> classes;
+  std::string default_class;
+  std::vector<BankStretchConfig> stretches;
+  template <class V>
+  void describe(V& v) {
+    v.field("bin_length", bin_length,
+            param("m", "Length of the bank bins oil is counted in").positive());
+    v.field("classes", classes, param("", "Bank classes").require());
+    v.field("default_class", default_class,
+            param("", "Class of every bank not in a stretch").require());
+    v.field("stretches", stretches, param("", "Stretches of another class"));
+  }
+};
+
+struct WatchPointConfig {
+  std::string name;
+  std::vector<double> position;
+  double radius = 50;
+  template <class V>
+  void describe(V& v) {
+    v.field("name", name, param("", "Name (an intake, a boom site)").require());
+    v.field("position", position, param("m", "[x, y] in map coordinates").require());
+    v.field("radius", radius, param("m", "Oil within this distance has arrived").positive());
+  }
+  void check(const std::string& file, const std::string& pointer) const {
+    check_point(position, file, pointer + "/position");
+  }
+};
+
+struct ForecastConfig {
+  std::string name = "forecast";
+  std::string description;
+  FlowConfig flow;
+  std::vector<std::vector<double>> centreline;
+  std::string oil;
+  std::vector<ReleaseConfig> releases;
+  EnvironmentConfig environment;
+  DriftSettings drift;
+  BanksConfig banks;
+  std::vector<WatchPointConfig> watch_points;
+  double end_time = 21600, time_step = 60, output_every = 1800;
+  int seed = 1;
+  template <class V>
+  void describe(V& v) {
+    v.field("name", name, param("", "Name of the forecast"));
+    v.field("description", description, param("", "What it is"));
+    v.field("flow", flow, param("", "The river's flow").require());
+    v.field("centreline", centreline,
+            param("m", "[[x, y], ...] the river's centreline, upstream to downstream").require());
+    v.field("oil", oil,
+            param("",
+                  "An oil of the library (farfield/oils: light_crude, medium_crude, "
+                  "diluted_bitumen) or a path to an oil record JSON")
+                .require());
+    v.field("releases", releases, param("", "Where and when oil enters").require());
+    v.field("environment", environment, param("", "Weather and water").require());
+    v.field("drift", drift, param("", "Surface drift and mixing"));
+    v.field("banks", banks, param("", "Bank classes and stranding").require());
+    v.field("watch_points", watch_points, param("", "Intakes and boom sites"));
+    v.field("end_time", end_time, param("s", "How long to forecast").positive());
+    v.field("time_step", time_step, param("s", "Time step").positive());
+    v.field("output_every", output_every, param("s", "Interval of the outputs").positive());
+    v.field("seed", seed, param("", "Seed of the random walk").non_negative());
+  }
+  void check(const std::string& file, const std::string& pointer) const {
+    if (centreline.size() < 2)
+      throw ConfigError(file, pointer + "/centreline", "expected at least 2 points");
+    for (size_t k = 0; k < centreline.size(); ++k)
+      check_point(centreline[k], file, pointer + "/centreline/" + std::to_string(k));
+    if (releases.empty()) throw ConfigError(file, pointer + "/releases", "expected a release");
+  }
+};
+
+// Reads `file` with "/pointer=value" overrides; relative paths become relative to its folder.
+ForecastConfig load_forecast_config(const std::string& file,
+                                    const std::vector<std::string>& overrides);
+
+// The keys as a Markdown table (docs/far_field_reference.md is this).
+std::string forecast_reference_markdown();
+
+}  // namespace farfield

@@ -1,0 +1,152 @@
+#include "farfield/weathering.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace farfield {
+
+namespace {
+constexpr double kGravity = 9.81;
+constexpr double kGasConstant = 8.314;  // J/(mol K)
+constexpr double kZeroCelsius = 273.15;
+constexpr double kEmulsionRate = 2.02e-6;    // ADIOS-2's K0
+constexpr double kLargestDroplet = 1e-5;     // m
+constexpr double kSmallestDroplet = 1e-6;    // m
+constexpr double kEntrainedVolume = 3.9e-8;  // m^3, Delvigne & Sweeney's lumped droplet volume
+constexpr int kMaxCuts = 16;  // the oil's pseudo-components (oil.cpp makes at most 9)
+constexpr double kWaveSpeedChange = 4.433049525859078;  // m/s, where the wind stress law changes
+
+// The wind stress factor of ADIOS-2's wave estimate.
+double wind_stress(double u) {
+  return u < kWaveSpeedChange ? 0.71 * std::pow(u, 1.23) : u;
+}
+
+// The wind (m/s) that would raise waves of height h over an unlimited fetch.
+double wind_for_wave_height(double h) {
+  const double u = std::sqrt(kGravity * h / 0.243);
+  return u < kWaveSpeedChange ? std::pow(u / 0.71, 0.813008) : u;
+}
+
+// Fraction of breaking waves (Lehr & Simecek-Beatty) in fresh water, whose mean wave period is
+// 2.54 s by their fit.
+double breaking_fraction(double u) {
+  const double period = 2.54;
+  const double f = u < 4 ? 0.0125 * u / period : (0.01 * u + 0.01) / period;
+  return std::min(1.0, 0.5 * f);
+}
+}  // namespace
+
+double wave_height_from_wind(double wind_speed, double fetch) {
+  const double ws = wind_stress(wind_speed);
+  if (fetch < 2268 * ws * ws) return 0.0016 * std::sqrt(fetch / kGravity) * ws;
+  return 0.243 * ws * ws / kGravity;
+}
+
+double oil_volume(const OilRecord& oil, const Elements& el, size_t e) {
+  double v = 0;
+  for (int c = 0; c < el.cuts; ++c)
+    v += el.mass[e * size_t(el.cuts) + size_t(c)] / oil.components[size_t(c)].density;
+  return v;
+}
+
+double oil_density(const OilRecord& oil, const Elements& el, size_t e) {
+  const double v = oil_volume(oil, el, e);
+  return v > 0 ? el.oil_mass(e) / v : oil.density;
+}
+
+double emulsion_viscosity(const OilRecord& oil, const Elements& el, size_t e,
+                          double temperature_c) {
+  const double fresh = oil.viscosity_at(temperature_c);
+  const double evaporated =
+      el.released_mass[e] > 0 ? el.evaporated_mass[e] / el.released_mass[e] : 0;
+  const double c = std::clamp(1500 * std::sqrt(fresh), 1.0, 10.0);
+  const double y = el.water_fraction[e] / 0.84;
+  return fresh * std::exp(c * evaporated) * std::pow(1 + y / (1.187 - y), 2.49);
+}
+
+void evaporate(const OilRecord& oil, Elements& el, size_t e, const WeatherNow& w,
+               double slick_diameter, double dt) {
+  if (w.ice) return;
+  const size_t base = e * size_t(el.cuts);
+  const double temperature = w.water_temperature_c + kZeroCelsius;
+  const double transfer = 0.0048 * std::pow(std::max(w.wind_speed, 1.0), 0.78) *
+                          std::pow(std::max(slick_diameter, 1.0), -1.0 / 9);
+  const double common =
+      el.area[e] * (1 - el.water_fraction[e]) * transfer / (kGasConstant * temperature);
+  // Per cut, k_i = Sc_i^(-2/3) P_i; the decay rate is common k_i / (sum_j m_j / MW_j).
+  double k[kMaxCuts];
+  double moles = 0;
+  for (int c = 0; c < el.cuts; ++c) {
+    const PseudoComponent& p = oil.components[size_t(c)];
+    k[c] = p.volatile_cut
+               ? 1.380277 * std::cbrt(0.018 / p.molecular_weight) * p.vapour_pressure(temperature)
+               : 0.0;
+    moles += el.mass[base + size_t(c)] / p.molecular_weight;
+  }
+  if (!(moles > 0)) return;
+  // The moles' sum at mid-step, from a half step at the start's rates, so that each cut's
+  // exponential over the step is second-order accurate as the light cuts leave.
+  double mid_moles = 0;
+  for (int c = 0; c < el.cuts; ++c)
+    mid_moles += el.mass[base + size_t(c)] * std::exp(-0.5 * dt * common * k[c] / moles) /
+                 oil.components[size_t(c)].molecular_weight;
+  double lost = 0;
+  for (int c = 0; c < el.cuts; ++c) {
+    if (k[c] == 0) continue;
+    double& m = el.mass[base + size_t(c)];
+    const double kept = m * std::exp(-dt * common * k[c] / mid_moles);
+    lost += m - kept;
+    m = kept;
+  }
+  el.evaporated_mass[e] += lost;
+}
+
+void emulsify(const OilRecord& oil, Elements& el, size_t e, const WeatherNow& w, double dt) {
+  const double y_max = oil.max_water_fraction;
+  if (!(y_max > 0)) return;
+  if (el.emulsion_start[e] < 0) {
+    const double evaporated = el.evaporated_mass[e] / el.released_mass[e];
+    if (evaporated < oil.emulsification_onset) return;
+    el.emulsion_start[e] = el.age[e];
+  }
+  double wind = w.ice ? 0.0 : w.wind_speed;
+  if (w.wave_height > 0) wind = std::max(wind, wind_for_wave_height(w.wave_height));
+  const double rate = 6 * kEmulsionRate * wind * wind / kLargestDroplet;
+  const double s_max = 6 / kSmallestDroplet * y_max / (1 - y_max);
+  double& s = el.droplet_area[e];
+  s = s_max - (s_max - s) * std::exp(-rate * dt / s_max);
+  el.water_fraction[e] = std::min(y_max, s * kLargestDroplet / (6 + s * kLargestDroplet));
+}
+
+void disperse(const OilRecord& oil, Elements& el, size_t e, const WeatherNow& w, double dt) {
+  const double h_rms = 0.707 * w.wave_height;
+  if (!(h_rms > 0)) return;
+  const double energy = 0.0034 * w.water_density * kGravity * h_rms * h_rms;
+  double wind = w.ice ? 0.0 : w.wind_speed;
+  wind = std::max(wind, wind_for_wave_height(w.wave_height));
+  const double nu = emulsion_viscosity(oil, el, e, w.water_temperature_c);
+  const double c_roy = 2400 * std::exp(-73.682 * std::sqrt(nu));
+  const double rate = c_roy * std::pow(energy, 0.57) * breaking_fraction(wind) * kEntrainedVolume *
+                      (1 - el.water_fraction[e]) * el.area[e];
+  const double mass = el.oil_mass(e);
+  if (!(mass > 0)) return;
+  const double fraction = std::min(1.0, rate * dt / mass);
+  const size_t base = e * size_t(el.cuts);
+  double lost = 0;
+  for (int c = 0; c < el.cuts; ++c) {
+    double& m = el.mass[base + size_t(c)];
+    const double kept = m * (1 - fraction);
+    lost += m - kept;
+    m = kept;
+  }
+  el.dispersed_mass[e] += lost;
+}
+
+void weather_element(const OilRecord& oil, Elements& el, size_t e, const WeatherNow& w,
+                     const WeatheringSwitches& on, double slick_diameter, double dt) {
+  if (on.evaporation) evaporate(oil, el, e, w, slick_diameter, dt);
+  if (on.emulsification) emulsify(oil, el, e, w, dt);
+  if (on.dispersion) disperse(oil, el, e, w, dt);
+}
+
+}  // namespace farfield

@@ -1,0 +1,60 @@
+#pragma once
+// What the weather does to the oil on one element over a step, as ADIOS-2 and PyGNOME do it:
+//
+// - Evaporation of each pseudo-component i, one exponential decay per step,
+//     dm_i/dt = -A (1 - Y) K X^(-1/9) Sc_i^(-2/3) P_i(T) m_i / (R T sum_j m_j / MW_j),
+//   K = 0.0048 U^0.78 (m/s, the 10 m wind U at least 1 m/s; Mackay & Matsugu), the puddle term
+//   with X the diameter of the element's release's slick (at least 1 m), and the Schmidt term
+//   Sc_i^(-2/3) = 1.380277 (0.018 / MW_i)^(1/3) (MW in kg/mol). None under ice.
+// - Water uptake (emulsification) once the evaporated fraction reaches the oil's onset: the
+//   water droplets' surface per volume of oil grows as dS/dt = k (1 - S / S_max), k = 6 K0 U^2 /
+//   d_max (K0 = 2.02e-6, d_max = 1e-5 m), S_max = (6 / d_min) Y_max / (1 - Y_max) (d_min = 1e-6 m),
+//   integrated exactly over each step; the water fraction is Y = min(Y_max, S d_max / (6 + S
+//   d_max)). U is the wind, or the wind that would raise a given wave height if that is more.
+// - Natural dispersion (Delvigne & Sweeney 1988, as ADIOS-2): Q = C_Roy D_e^0.57 f_bw V (1 - Y) A
+//   kg/s, C_Roy = 2400 exp(-73.682 sqrt(nu)) with nu the emulsion's kinematic viscosity (m^2/s),
+//   D_e = 0.0034 rho_w g H_rms^2 the waves' dissipated energy, f_bw the fraction of breaking
+//   waves (Lehr & Simecek-Beatty) and V = 3.9e-8 m^3.
+// - The emulsion's properties: oil density from its components' (volumes adding), emulsion
+//   density Y rho_w + (1 - Y) rho_oil; viscosity nu_0(T) exp(c F_evap) (c = 1500 sqrt(nu_0)
+//   clipped to 1-10) times Mooney's (1 + (Y / 0.84) / (1.187 - Y / 0.84))^2.49.
+//
+// Every kilogram an element loses is added to its evaporated or dispersed mass, so the budget
+// closes to rounding.
+
+#include "farfield/elements.h"
+#include "farfield/oil.h"
+
+namespace farfield {
+
+struct WeatherNow {
+  double water_temperature_c = 15;
+  double wind_speed = 0;   // m/s at 10 m
+  double wave_height = 0;  // m, significant
+  bool ice = false;
+  double water_density = 1000;  // kg/m^3
+};
+
+struct WeatheringSwitches {
+  bool evaporation = true, emulsification = true, dispersion = true;
+};
+
+// The significant wave height (m) a wind of `wind_speed` (m/s) raises over `fetch` (m), fetch
+// limited as ADIOS-2 estimates it.
+double wave_height_from_wind(double wind_speed, double fetch);
+
+double oil_volume(const OilRecord& oil, const Elements& el, size_t e);   // m^3
+double oil_density(const OilRecord& oil, const Elements& el, size_t e);  // kg/m^3
+double emulsion_viscosity(const OilRecord& oil, const Elements& el, size_t e, double temperature_c);
+
+// Evaporates element e for dt with its slick's diameter `slick_diameter` (m).
+void evaporate(const OilRecord& oil, Elements& el, size_t e, const WeatherNow& w,
+               double slick_diameter, double dt);
+void emulsify(const OilRecord& oil, Elements& el, size_t e, const WeatherNow& w, double dt);
+void disperse(const OilRecord& oil, Elements& el, size_t e, const WeatherNow& w, double dt);
+
+// All three, as switched.
+void weather_element(const OilRecord& oil, Elements& el, size_t e, const WeatherNow& w,
+                     const WeatheringSwitches& on, double slick_diameter, double dt);
+
+}  // namespace farfield

@@ -1,0 +1,305 @@
+// The far field against closed forms (issue 33, section 4): advection-diffusion of 1e5 elements
+// in uniform flow, Fay's gravity-viscous area, each evaporating cut against its exponential,
+// the evaporated fraction independent of the time step, water uptake bounded by the oil's
+// maximum, the budget closed at every step, a crosswind stranding everything on the lee bank and
+// nothing of wind or evaporation under ice.
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <memory>
+
+#include "farfield/channel_flow.h"
+#include "farfield/far_field_model.h"
+
+namespace farfield {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+constexpr double kG = 9.81;
+
+OilRecord oil_named(const std::string& name) {
+  return load_oil(name, SPILL_OIL_LIBRARY, "test", "/oil");
+}
+
+// A straight channel 100 km long, `width` wide, 2 m deep at 1 m/s (n = 0.03), one bank class
+// that holds everything and never lets go, calm weather at 15 deg C, nothing released.
+FarFieldSetup channel_setup(double width, const std::string& oil = "medium_crude") {
+  auto flow = std::make_shared<ChannelFlow>();
+  flow->width = width;
+  FarFieldSetup s;
+  s.flow = flow;
+  s.oil = oil_named(oil);
+  s.centreline = Centreline({{0.0, width / 2}, {flow->length, width / 2}});
+  s.banks = Banks(s.centreline, 100, {BankClass{"holds all", 1e9, 1e12}}, 0, {});
+  s.environment.water_temperature_c = reach::Hydrograph(15.0);
+  return s;
+}
+
+ReleaseSpec point_release(double x, double y, double volume, int elements) {
+  ReleaseSpec r;
+  r.x0 = r.x1 = x;
+  r.y0 = r.y1 = y;
+  r.start = r.end = 0;
+  r.rate = reach::Hydrograph(volume);
+  r.elements = elements;
+  return r;
+}
+
+TEST(FarFieldValidation, AdvectionDiffusionInUniformFlowHasTheMeanAndVariancesOfTheLaws) {
+  for (const double dt : {60.0, 15.0}) {
+    FarFieldSetup s = channel_setup(400);
+    s.weathering = {false, false, false};
+    s.spreading = false;
+    s.releases = {point_release(1000, 200, 1.0, 100000)};
+    FarFieldModel model(s);
+    const double end = 3600;
+    while (model.time() < end - 1e-9) model.step(dt);
+
+    // The closed forms: the log law's surface speed, Elder's and Fischer's coefficients.
+    const auto& c = static_cast<const ChannelFlow&>(*s.flow);
+    const double half_cf = kG * c.manning * c.manning / std::cbrt(c.depth);
+    const double shear = c.speed * std::sqrt(half_cf);
+    const double surface = c.speed * (1 + std::sqrt(half_cf) / 0.41);
+    const double d_long = 5.93 * c.depth * shear, d_trans = 0.6 * c.depth * shear;
+
+    const Elements& el = model.elements();
+    ASSERT_EQ(el.size(), 100000u);
+    double mx = 0, my = 0;
+    for (size_t e = 0; e < el.size(); ++e) {
+      ASSERT_EQ(el.state[e], ElementState::floating);
+      mx += el.x[e];
+      my += el.y[e];
+    }
+    mx /= double(el.size());
+    my /= double(el.size());
+    double vx = 0, vy = 0;
+    for (size_t e = 0; e < el.size(); ++e) {
+      vx += (el.x[e] - mx) * (el.x[e] - mx);
+      vy += (el.y[e] - my) * (el.y[e] - my);
+    }
+    vx /= double(el.size() - 1);
+    vy /= double(el.size() - 1);
+    // The mean drift to 0.1 % of the distance travelled, the variances 2 D t within 2 %.
+    EXPECT_NEAR(mx - 1000, surface * end, 1e-3 * surface * end) << "dt " << dt;
+    EXPECT_NEAR(my, 200, 0.5);
+    EXPECT_NEAR(vx / (2 * d_long * end), 1.0, 0.02) << "dt " << dt;
+    EXPECT_NEAR(vy / (2 * d_trans * end), 1.0, 0.02) << "dt " << dt;
+  }
+}
+
+TEST(FarFieldValidation, FayGravityViscousAreaFollowsItsFormula) {
+  FarFieldSetup s = channel_setup(1e5);  // no bank within reach
+  auto long_channel = std::make_shared<ChannelFlow>(static_cast<const ChannelFlow&>(*s.flow));
+  long_channel->length = 1e6;  // nothing leaves in a day
+  s.flow = long_channel;
+  s.weathering = {false, false, false};
+  s.drift.mixing = false;
+  const double volume = 10;
+  s.releases = {point_release(1000, 5e4, volume, 100)};
+  FarFieldModel model(s);
+  // The constants of PyGNOME's FayGravityViscous, computed here on their own.
+  const double delta = (1000 - s.oil.density) / 1000, nu = 1e-6;
+  const double a0 = kPi * std::pow(1.21, 4) / (1.53 * 1.53) *
+                    std::pow(std::pow(volume, 5) * kG * delta / (nu * nu), 1.0 / 6);
+  const double t0 = std::pow(1.21 / 1.53, 4) * std::cbrt(volume / (nu * kG * delta));
+  const double c = kPi * 1.45 * 1.45 * std::cbrt(volume * volume * kG * delta / std::sqrt(nu));
+  const auto total_area = [&] {
+    double a = 0;
+    for (double x : model.elements().area) a += x;
+    return a;
+  };
+  model.step(1);
+  EXPECT_NEAR(total_area(), a0, 1e-9 * a0);  // t0 is about 74 s
+  ASSERT_GT(t0, 10);
+  const double dt = 60;
+  while (model.time() < 86400 - 1e-9) {
+    model.step(dt);
+    const double t = model.time();
+    if (t <= t0) continue;
+    // dA/dt = C^2 / (2 A) from A0 at t0, integrated by hand.
+    const double expected = std::sqrt(a0 * a0 + c * c * (t - t0));
+    ASSERT_NEAR(total_area(), expected, 1e-9 * expected) << "t = " << t;
+  }
+  // Fay's own law, A = C sqrt(t), once the slick is much larger than at the start.
+  EXPECT_NEAR(total_area() / (c * std::sqrt(model.time())), 1.0, 0.01);
+  // A slick spreads no thinner than the oil's limit.
+  FarFieldSetup thin = s;
+  thin.releases = {point_release(1000, 5e4, 1e-3, 10)};
+  FarFieldModel small(thin);
+  while (small.time() < 86400 - 1e-9) small.step(dt);
+  const double limit = thin.oil.min_thickness(15);
+  for (size_t e = 0; e < small.elements().size(); ++e)
+    EXPECT_NEAR(small.thickness(e), limit, 1e-9 * limit);
+}
+
+// Each cut's mass with the area, wind, temperature and water content held: with
+// dtau = c dt / (sum_j m_j / MW_j) every cut decays as m_i0 exp(-k_i tau), k_i = Sc_i^(-2/3) P_i,
+// and t(tau) = sum_j (m_j0 / MW_j) (1 - exp(-k_j tau)) / (c k_j) in closed form.
+TEST(FarFieldValidation, EachCutEvaporatesAsItsExponential) {
+  const OilRecord oil = oil_named("medium_crude");
+  Elements el;
+  el.cuts = int(oil.components.size());
+  std::vector<double> m0;
+  for (const auto& p : oil.components) m0.push_back(1000 * p.mass_fraction);
+  const double area = 500;
+  el.add(0, 0, m0, area, 0, 1.0, 0);
+  WeatherNow w;
+  w.water_temperature_c = 15;
+  w.wind_speed = 5;
+  const double diameter = 2 * std::sqrt(area / kPi);
+  const double temperature = 288.15;
+  const double c =
+      area * 0.0048 * std::pow(5.0, 0.78) * std::pow(diameter, -1.0 / 9) / (8.314 * temperature);
+  std::vector<double> k;
+  for (const auto& p : oil.components)
+    k.push_back(p.volatile_cut ? 1.380277 * std::cbrt(0.018 / p.molecular_weight) *
+                                     p.vapour_pressure(temperature)
+                               : 0.0);
+  const auto time_of = [&](double tau) {
+    double t = 0;
+    for (size_t j = 0; j < k.size(); ++j) {
+      const double moles = m0[j] / oil.components[j].molecular_weight;
+      t += k[j] > 0 ? moles * -std::expm1(-k[j] * tau) / (c * k[j]) : moles * tau / c;
+    }
+    return t;
+  };
+  const double dt = 60;
+  for (int step = 1; step <= 360; ++step) {
+    evaporate(oil, el, 0, w, diameter, dt);
+    if (step % 60) continue;
+    const double t = step * dt;
+    double lo = 0, hi = 1;
+    while (time_of(hi) < t) hi *= 2;
+    for (int it = 0; it < 200; ++it) ((time_of(0.5 * (lo + hi)) < t) ? lo : hi) = 0.5 * (lo + hi);
+    const double tau = 0.5 * (lo + hi);
+    for (size_t j = 0; j < k.size(); ++j) {
+      const double expected = m0[j] * std::exp(-k[j] * tau);
+      EXPECT_NEAR(el.mass[j], expected, 2e-3 * m0[j]) << "cut " << j << " at " << t << " s";
+    }
+  }
+  // The lightest cut is mostly gone after 6 h in a 5 m/s wind; the residue untouched.
+  EXPECT_LT(el.mass[0], 0.2 * m0[0]);
+  EXPECT_EQ(el.mass.back(), m0.back());
+}
+
+double evaporated_fraction_after(double hours, double dt) {
+  FarFieldSetup s = channel_setup(400, "light_crude");
+  s.environment.wind_speed = reach::Hydrograph(6.0);
+  s.environment.wind_from_deg = reach::Hydrograph(90.0);  // along the channel, from upstream
+  s.releases = {point_release(1000, 200, 5.0, 200)};
+  FarFieldModel model(s);
+  while (model.time() < hours * 3600 - 1e-9) model.step(dt);
+  const Budget b = model.budget();
+  return b.evaporated / b.released;
+}
+
+TEST(FarFieldValidation, EvaporatedFractionDoesNotDependOnTheTimeStep) {
+  const double coarse = evaporated_fraction_after(6, 60), fine = evaporated_fraction_after(6, 30);
+  EXPECT_GT(coarse, 0.2);  // a light crude loses a good part in 6 h
+  EXPECT_NEAR(coarse / fine, 1.0, 0.01);
+}
+
+TEST(FarFieldValidation, WaterContentNeverExceedsTheOilsMaximum) {
+  FarFieldSetup s = channel_setup(2000, "diluted_bitumen");
+  s.environment.wind_speed = reach::Hydrograph(15.0);
+  s.environment.wind_from_deg = reach::Hydrograph(270.0);  // from upstream (the west)
+  s.releases = {point_release(1000, 1000, 5.0, 200)};
+  s.drift.wind_factor = 0;  // stay in the channel for two days
+  s.drift.mixing = false;
+  FarFieldModel model(s);
+  const double y_max = s.oil.max_water_fraction;
+  ASSERT_GT(y_max, 0.5);
+  double most = 0;
+  while (model.time() < 48 * 3600 - 1e-9) {
+    model.step(300);
+    for (double y : model.elements().water_fraction) {
+      ASSERT_LE(y, y_max);
+      most = std::max(most, y);
+    }
+  }
+  EXPECT_GT(most, 0.99 * y_max);  // it does take up water, to the maximum
+}
+
+TEST(FarFieldValidation, TheBudgetClosesAtEveryStep) {
+  // Weathering, a continuous release along a line, a wind across, narrow banks of small
+  // capacity that let go, and a short channel the oil leaves.
+  FarFieldSetup s = channel_setup(60, "light_crude");
+  auto flow = std::make_shared<ChannelFlow>(static_cast<const ChannelFlow&>(*s.flow));
+  flow->length = 3000;
+  s.flow = flow;
+  s.centreline = Centreline({{0.0, 30.0}, {3000.0, 30.0}});
+  s.banks = Banks(s.centreline, 50, {BankClass{"sand", 2e-3, 1800}}, 0, {});
+  s.environment.wind_speed = reach::Hydrograph({{0.0, 2.0}, {3600.0, 8.0}});
+  s.environment.wind_from_deg = reach::Hydrograph(250.0);  // downstream, a little across
+  s.environment.wave_height = reach::Hydrograph(0.3);
+  ReleaseSpec r;
+  r.x0 = 100;
+  r.y0 = 10;
+  r.x1 = 100;
+  r.y1 = 50;
+  r.start = 0;
+  r.end = 1800;
+  r.rate = reach::Hydrograph({{0.0, 0.01}, {1800.0, 0.002}});
+  r.elements = 3000;
+  s.releases = {r};
+  FarFieldModel model(s);
+  bool stranded = false, left = false;
+  while (model.time() < 7200 - 1e-9) {
+    model.step(30);
+    const Budget b = model.budget();
+    ASSERT_LT(b.closure_error(), 1e-9) << "t = " << model.time();
+    stranded = stranded || b.stranded > 0;
+    left = left || b.left_reach > 0;
+  }
+  const Budget b = model.budget();
+  EXPECT_TRUE(stranded);
+  EXPECT_TRUE(left);
+  EXPECT_GT(b.evaporated, 0);
+  EXPECT_GT(b.dispersed, 0);
+  // Every m^3 of the rate's integral was released (trapezoid of the linear rate).
+  EXPECT_NEAR(b.released / s.oil.density, 0.5 * (0.01 + 0.002) * 1800, 1e-9 * 10.8);
+}
+
+TEST(FarFieldValidation, ASteadyCrosswindStrandsEverythingOnTheLeeBank) {
+  const double width = 50, wind = 10;
+  FarFieldSetup s = channel_setup(width);
+  s.weathering = {false, false, false};
+  s.environment.wind_speed = reach::Hydrograph(wind);
+  s.environment.wind_from_deg = reach::Hydrograph(180.0);  // from the south: towards +y, left
+  s.releases = {point_release(1000, width / 2, 1.0, 2000)};
+  FarFieldModel model(s);
+  // The time the wind's drift takes across the whole channel: the most any element needs.
+  const double drift_time = width / (0.03 * wind);
+  while (model.time() < drift_time - 1e-9) model.step(5);
+  const Elements& el = model.elements();
+  size_t left_bank = 0;
+  for (size_t e = 0; e < el.size(); ++e)
+    if (el.state[e] == ElementState::stranded &&
+        model.setup().banks.side_of(el.bank_segment[e]) == BankSide::left)
+      ++left_bank;
+  EXPECT_EQ(left_bank, el.size());
+  EXPECT_EQ(model.budget().floating, 0);
+}
+
+TEST(FarFieldValidation, UnderIceNoWindDriftAndNoEvaporation) {
+  const double width = 50;
+  FarFieldSetup s = channel_setup(width, "light_crude");
+  s.environment.ice = true;
+  s.environment.wind_speed = reach::Hydrograph(10.0);
+  s.environment.wind_from_deg = reach::Hydrograph(180.0);
+  s.drift.mixing = false;
+  s.releases = {point_release(1000, width / 2, 1.0, 100)};
+  FarFieldModel model(s);
+  while (model.time() < 600 - 1e-9) model.step(30);
+  const Elements& el = model.elements();
+  for (size_t e = 0; e < el.size(); ++e) {
+    EXPECT_EQ(el.state[e], ElementState::floating);
+    EXPECT_NEAR(el.y[e], width / 2, 1e-9);
+    EXPECT_EQ(el.evaporated_mass[e], 0);
+  }
+  EXPECT_GT(model.budget().floating, 0);
+}
+
+}  // namespace
+}  // namespace farfield
