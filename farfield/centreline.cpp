@@ -46,4 +46,15 @@ RiverPosition Centreline::locate(double x, double y) const {
   return best;
 }
 
+void Centreline::point_at(double along, double offset, double& x, double& y) const {
+  size_t k = 0;
+  while (k + 2 < points_.size() && cumulative_[k + 1] < along) ++k;
+  const double len = cumulative_[k + 1] - cumulative_[k];
+  const double ex = (points_[k + 1].first - points_[k].first) / len;
+  const double ey = (points_[k + 1].second - points_[k].second) / len;
+  const double s = along - cumulative_[k];
+  x = points_[k].first + s * ex - offset * ey;
+  y = points_[k].second + s * ey + offset * ex;
+}
+
 }  // namespace farfield

@@ -20,6 +20,8 @@ class Centreline {
   explicit Centreline(std::vector<std::pair<double, double>> points);
   // The nearest point of the polyline; beyond its ends, along the end segments' extensions.
   RiverPosition locate(double x, double y) const;
+  // The map point `along` metres down the centreline and `offset` metres to its left (< 0: right).
+  void point_at(double along, double offset, double& x, double& y) const;
   double length() const { return cumulative_.empty() ? 0 : cumulative_.back(); }
   const std::vector<std::pair<double, double>>& points() const { return points_; }
 

@@ -29,10 +29,38 @@ void diffusivity(const SurfaceFlow& flow, const DriftSettings& settings, double 
 }
 }  // namespace
 
+// Moves (nx, ny), a point past the water's edge reached from (x, y), back onto the water by
+// removing the part of its displacement that runs into the bank; the bank's normal is the
+// depth's gradient at (x, y). False (and nothing changed) when that lands on no water either.
+bool slide_along_bank(const SurfaceFlow& flow, double grid_cell, double min_depth, double t,
+                      double x, double y, double& nx, double& ny, FlowSample& landed) {
+  const double delta = 0.5 * grid_cell;
+  const auto depth = [&](double px, double py) {
+    const FlowSample s = flow.sample(px, py, t);
+    return s.where == FlowWhere::outside ? 0.0 : s.depth;
+  };
+  double gx = depth(x + delta, y) - depth(x - delta, y);
+  double gy = depth(x, y + delta) - depth(x, y - delta);
+  const double g = std::sqrt(gx * gx + gy * gy);
+  if (!(g > 0)) return false;
+  gx /= g;
+  gy /= g;
+  const double dx = nx - x, dy = ny - y;
+  const double into = dx * gx + dy * gy;  // < 0: towards the shallows
+  if (into >= 0) return false;
+  const double sx = x + dx - into * gx, sy = y + dy - into * gy;
+  const FlowSample s = flow.sample(sx, sy, t);
+  if (!is_water(s, min_depth)) return false;
+  nx = sx;
+  ny = sy;
+  landed = s;
+  return true;
+}
+
 LocalDrift local_drift(const FlowSample& s, const DriftSettings& settings) {
   LocalDrift d;
   if (s.where != FlowWhere::water || s.depth <= 0) return d;
-  const double speed = std::hypot(s.u, s.v);
+  const double speed = std::sqrt(s.u * s.u + s.v * s.v);
   // Manning's friction as a drag coefficient: tau / rho = (Cf / 2) |u| u.
   const double half_cf = kGravity * s.manning * s.manning / std::cbrt(s.depth);
   const double shear = speed * std::sqrt(half_cf);
@@ -52,28 +80,23 @@ LocalDrift local_drift(const FlowSample& s, const DriftSettings& settings) {
 
 DriftResult drift_element(const SurfaceFlow& flow, const DriftSettings& settings, const Wind& wind,
                           bool ice, double grid_cell, double min_depth, double t, double dt,
-                          std::uint64_t step, std::uint64_t element, double x, double y) {
+                          std::uint64_t step, std::uint64_t element, double x, double y,
+                          const BankFull& bank_full) {
   DriftResult r;
   r.x = r.wet_x = x;
   r.y = r.wet_y = y;
   const double wind_u = ice ? 0.0 : settings.wind_factor * wind.east;
   const double wind_v = ice ? 0.0 : settings.wind_factor * wind.north;
-  const auto velocity = [&](const FlowSample& s, double& u, double& v) {
-    const LocalDrift d = local_drift(s, settings);
-    u = d.u + wind_u;
-    v = d.v + wind_v;
-  };
-
   FlowSample here = flow.sample(x, y, t);
   if (!is_water(here, min_depth)) {
     r.where = here.where == FlowWhere::outside ? FlowWhere::outside : FlowWhere::bank;
     return r;
   }
-  double u0, v0;
-  velocity(here, u0, v0);
+  LocalDrift here_drift = local_drift(here, settings);
   // The advection in sub-steps of at most max_cells_per_substep cells at the starting speed.
-  const int substeps = std::max(
-      1, int(std::ceil(std::hypot(u0, v0) * dt / (settings.max_cells_per_substep * grid_cell))));
+  const double u0 = here_drift.u + wind_u, v0 = here_drift.v + wind_v;
+  const int substeps = std::max(1, int(std::ceil(std::sqrt(u0 * u0 + v0 * v0) * dt /
+                                                 (settings.max_cells_per_substep * grid_cell))));
   const double h = dt / substeps;
   const auto stop_at = [&](const FlowSample& s, double nx, double ny) {
     r.x = nx;
@@ -82,17 +105,30 @@ DriftResult drift_element(const SurfaceFlow& flow, const DriftSettings& settings
   };
   for (int k = 0; k < substeps; ++k) {
     const double tk = t + k * h;
-    double ua, va;
-    velocity(here, ua, va);
+    const double ua = here_drift.u + wind_u, va = here_drift.v + wind_v;
     double ub = ua, vb = va;
     const FlowSample mid = flow.sample(x + 0.5 * h * ua, y + 0.5 * h * va, tk + 0.5 * h);
-    if (is_water(mid, min_depth)) velocity(mid, ub, vb);
-    const double nx = x + h * ub, ny = y + h * vb;
+    if (is_water(mid, min_depth)) {
+      const LocalDrift m = local_drift(mid, settings);
+      ub = m.u + wind_u;
+      vb = m.v + wind_v;
+    }
+    double nx = x + h * ub, ny = y + h * vb;
     here = flow.sample(nx, ny, tk + h);
     if (!is_water(here, min_depth)) {
-      stop_at(here, nx, ny);
-      return r;
+      if (here.where == FlowWhere::outside || !bank_full || !bank_full(x, y)) {
+        stop_at(here, nx, ny);
+        return r;
+      }
+      // A bank that holds no more: the element moves on along it, its motion into the bank
+      // removed (the bank's normal from the depth's gradient), or stays where it is.
+      if (!slide_along_bank(flow, grid_cell, min_depth, tk + h, x, y, nx, ny, here)) {
+        nx = x;
+        ny = y;
+        here = flow.sample(x, y, tk + h);
+      }
     }
+    here_drift = local_drift(here, settings);
     x = r.x = r.wet_x = nx;
     y = r.y = r.wet_y = ny;
   }
@@ -100,7 +136,7 @@ DriftResult drift_element(const SurfaceFlow& flow, const DriftSettings& settings
   // where D is uniform), with the drift div(D) by central differences over half a cell.
   if (settings.mixing) {
     const double te = t + dt;
-    const LocalDrift d = local_drift(here, settings);
+    const LocalDrift& d = here_drift;
     const double delta = 0.5 * grid_cell;
     double xx_e, xy_e, yy_e, xx_w, xy_w, yy_w, xx_n, xy_n, yy_n, xx_s, xy_s, yy_s;
     diffusivity(flow, settings, x + delta, y, te, xx_e, xy_e, yy_e);
@@ -118,6 +154,10 @@ DriftResult drift_element(const SurfaceFlow& flow, const DriftSettings& settings
     const double ny = y + div_y * dt + along * d.ey + across * d.ex;
     const FlowSample end = flow.sample(nx, ny, te);
     if (!is_water(end, min_depth)) {
+      if (end.where != FlowWhere::outside && bank_full && bank_full(x, y)) {
+        r.where = FlowWhere::water;  // a full bank: the mixing's step is not taken
+        return r;
+      }
       stop_at(end, nx, ny);
       return r;
     }

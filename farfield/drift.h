@@ -16,6 +16,7 @@
 //   mixing's step follows it.
 
 #include <cstdint>
+#include <functional>
 
 #include "common/param_spec.h"
 #include "farfield/surface_flow.h"
@@ -72,12 +73,17 @@ struct DriftResult {
   FlowWhere where = FlowWhere::water;  // at (x, y): water, or a bank / outside it stopped at
 };
 
+// Whether the bank beside the water at (x, y) holds no more oil (then an element reaching it
+// stays afloat and moves on along it); empty: every bank takes oil.
+using BankFull = std::function<bool(double x, double y)>;
+
 // Moves an element at (x, y) on for dt from time t (s); `step` and `element` seed its random
-// walk. It stops at the first sub-step that lands on a bank, in water shallower than
-// `min_depth` (then `where` is bank) or outside the flow's domain. `grid_cell` is the flow's
-// resolution (m), for the sub-steps and div(D).
+// walk. It stops at the first sub-step that lands on a bank that takes oil, in water shallower
+// than `min_depth` (then `where` is bank) or outside the flow's domain. `grid_cell` is the
+// flow's resolution (m), for the sub-steps and div(D).
 DriftResult drift_element(const SurfaceFlow& flow, const DriftSettings& settings, const Wind& wind,
                           bool ice, double grid_cell, double min_depth, double t, double dt,
-                          std::uint64_t step, std::uint64_t element, double x, double y);
+                          std::uint64_t step, std::uint64_t element, double x, double y,
+                          const BankFull& bank_full = {});
 
 }  // namespace farfield

@@ -86,6 +86,8 @@ void FarFieldModel::step(double dt) {
   const WeatherNow weather = env.weather_at(t0 + 0.5 * dt);
   const Wind wind = env.wind_at(t0 + 0.5 * dt);
   const double min_thickness = setup_.oil.min_thickness(weather.water_temperature_c);
+  const std::vector<double> potentials =
+      evaporation_potentials(setup_.oil, weather.water_temperature_c);
   const SurfaceFlow& flow = *setup_.flow;
   const double cell = flow.resolution();
   const long n = long(elements_.size());
@@ -102,15 +104,23 @@ void FarFieldModel::step(double dt) {
     const FaySlick& slick = slicks_[size_t(el.slick[e])];
     const double share = el.slick_share[e];
     const double slick_diameter = 2 * std::sqrt(el.area[e] / share / kPi);
-    weather_element(setup_.oil, el, e, weather, setup_.weathering, slick_diameter, live);
+    weather_element(setup_.oil, el, e, weather, potentials, setup_.weathering, slick_diameter,
+                    live);
     el.age[e] += dt;
     if (setup_.spreading) {
       const double most = el.released_mass[e] / setup_.oil.density / min_thickness;
       el.area[e] = std::max(el.area[e], std::min(share * slick.area_at(el.age[e]), most));
     }
     const double min_depth = std::max(setup_.dry_depth, thickness(e));
+    // A bank bin that cannot take this element turns it away (the bins are only read while the
+    // elements drift side by side; the stranding below checks again in element order).
+    const double volume = emulsion_volume(e);
+    const BankFull bank_full = [this, volume](double x, double y) {
+      const int bin = setup_.banks.bin_at(setup_.centreline.locate(x, y));
+      return bank_held_[size_t(bin)] + volume > setup_.banks.capacity_m3(bin);
+    };
     moved_[e] = drift_element(flow, setup_.drift, wind, env.ice, cell, min_depth, t1 - live, live,
-                              std::uint64_t(steps_), std::uint64_t(e), el.x[e], el.y[e]);
+                              std::uint64_t(steps_), std::uint64_t(e), el.x[e], el.y[e], bank_full);
   }
 
   // Stranding and leaving, in element order (the banks' capacity is shared).

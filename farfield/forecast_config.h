@@ -175,6 +175,7 @@ struct ForecastConfig {
   std::vector<WatchPointConfig> watch_points;
   double end_time = 21600, time_step = 60, output_every = 1800;
   int seed = 1;
+  std::string start_date = "2000-01-01T00:00:00Z";
   template <class V>
   void describe(V& v) {
     v.field("name", name, param("", "Name of the forecast"));
@@ -196,6 +197,10 @@ struct ForecastConfig {
     v.field("time_step", time_step, param("s", "Time step").positive());
     v.field("output_every", output_every, param("s", "Interval of the outputs").positive());
     v.field("seed", seed, param("", "Seed of the random walk").non_negative());
+    v.field("start_date", start_date,
+            param("",
+                  "UTC clock time of forecast time 0, YYYY-MM-DDTHH:MM:SSZ (for the NetCDF "
+                  "and the GeoJSON's times)"));
   }
   void check(const std::string& file, const std::string& pointer) const {
     if (centreline.size() < 2)
@@ -203,6 +208,8 @@ struct ForecastConfig {
     for (size_t k = 0; k < centreline.size(); ++k)
       check_point(centreline[k], file, pointer + "/centreline/" + std::to_string(k));
     if (releases.empty()) throw ConfigError(file, pointer + "/releases", "expected a release");
+    if (output_every < time_step)
+      throw ConfigError(file, pointer + "/output_every", "expected >= time_step");
   }
 };
 

@@ -20,10 +20,10 @@ ReachFlow::ReachFlow(const ReachFlowRequest& q) : dry_depth_(q.dry_depth) {
   };
   const fs::path dir(q.run_dir);
   if (!fs::is_regular_file(dir / "reach.json") || !fs::is_regular_file(dir / "bed.tif"))
-    throw refuse("/run", q.run_dir + " is not a reach run folder (no reach.json or bed.tif)");
+    throw refuse("/reach_run", q.run_dir + " is not a reach run folder (no reach.json or bed.tif)");
   const nlohmann::json summary = common::load_json_file((dir / "reach.json").string(), "reach run");
   const nlohmann::json& frames = summary.at("frames");
-  if (frames.empty()) throw refuse("/run", q.run_dir + "/reach.json lists no output");
+  if (frames.empty()) throw refuse("/reach_run", q.run_dir + "/reach.json lists no output");
   steady_ = summary.contains("steady") && summary["steady"].value("reached", false);
 
   const nlohmann::json terrain = summary.at("config").at("terrain");
@@ -64,8 +64,9 @@ ReachFlow::ReachFlow(const ReachFlowRequest& q) : dry_depth_(q.dry_depth) {
       const reach::Raster r =
           reach::read_raster((dir / f.at("files").at(what).get<std::string>()).string());
       if (r.grid.nx != grid_.nx || r.grid.ny != grid_.ny)
-        throw refuse("/run", q.run_dir + ": the " + what + " raster at " +
-                                 std::to_string(std::lround(t)) + " s is not on bed.tif's grid");
+        throw refuse("/reach_run", q.run_dir + ": the " + what + " raster at " +
+                                       std::to_string(std::lround(t)) +
+                                       " s is not on bed.tif's grid");
       return r.values;
     };
     Frame frame;
@@ -143,10 +144,10 @@ FlowSample ReachFlow::sample(double x, double y, double t) const {
   return s;
 }
 
-const reach::Field& ReachFlow::depth_at(double t) const {
+reach::WaterState ReachFlow::water_at(double t) const {
   size_t k = 0;
   while (k + 1 < frames_.size() && frames_[k + 1].t <= t) ++k;
-  return frames_[k].depth;
+  return {frames_[k].depth, frames_[k].qx, frames_[k].qy};
 }
 
 }  // namespace farfield

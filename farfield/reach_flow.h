@@ -10,6 +10,7 @@
 
 #include "farfield/surface_flow.h"
 #include "reach/grid.h"
+#include "reach/shallow_water.h"
 
 namespace farfield {
 
@@ -38,8 +39,8 @@ class ReachFlow final : public SurfaceFlow {
   bool steady() const { return steady_; }
   // The run's bed (NaN where closed), for maps.
   const reach::Field& bed() const { return bed_; }
-  // Depth of the frame in force at forecast time t (for maps).
-  const reach::Field& depth_at(double t) const;
+  // The output in force at forecast time t as the reach's water state (for maps).
+  reach::WaterState water_at(double t) const;
 
  private:
   struct Frame {

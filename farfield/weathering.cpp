@@ -13,7 +13,6 @@ constexpr double kEmulsionRate = 2.02e-6;    // ADIOS-2's K0
 constexpr double kLargestDroplet = 1e-5;     // m
 constexpr double kSmallestDroplet = 1e-6;    // m
 constexpr double kEntrainedVolume = 3.9e-8;  // m^3, Delvigne & Sweeney's lumped droplet volume
-constexpr int kMaxCuts = 16;  // the oil's pseudo-components (oil.cpp makes at most 9)
 constexpr double kWaveSpeedChange = 4.433049525859078;  // m/s, where the wind stress law changes
 
 // The wind stress factor of ADIOS-2's wave estimate.
@@ -64,8 +63,18 @@ double emulsion_viscosity(const OilRecord& oil, const Elements& el, size_t e,
   return fresh * std::exp(c * evaporated) * std::pow(1 + y / (1.187 - y), 2.49);
 }
 
+std::vector<double> evaporation_potentials(const OilRecord& oil, double temperature_c) {
+  std::vector<double> k;
+  const double temperature = temperature_c + kZeroCelsius;
+  for (const PseudoComponent& p : oil.components)
+    k.push_back(p.volatile_cut ? 1.380277 * std::cbrt(0.018 / p.molecular_weight) *
+                                     p.vapour_pressure(temperature)
+                               : 0.0);
+  return k;
+}
+
 void evaporate(const OilRecord& oil, Elements& el, size_t e, const WeatherNow& w,
-               double slick_diameter, double dt) {
+               const std::vector<double>& k, double slick_diameter, double dt) {
   if (w.ice) return;
   const size_t base = e * size_t(el.cuts);
   const double temperature = w.water_temperature_c + kZeroCelsius;
@@ -74,27 +83,21 @@ void evaporate(const OilRecord& oil, Elements& el, size_t e, const WeatherNow& w
   const double common =
       el.area[e] * (1 - el.water_fraction[e]) * transfer / (kGasConstant * temperature);
   // Per cut, k_i = Sc_i^(-2/3) P_i; the decay rate is common k_i / (sum_j m_j / MW_j).
-  double k[kMaxCuts];
   double moles = 0;
-  for (int c = 0; c < el.cuts; ++c) {
-    const PseudoComponent& p = oil.components[size_t(c)];
-    k[c] = p.volatile_cut
-               ? 1.380277 * std::cbrt(0.018 / p.molecular_weight) * p.vapour_pressure(temperature)
-               : 0.0;
-    moles += el.mass[base + size_t(c)] / p.molecular_weight;
-  }
+  for (int c = 0; c < el.cuts; ++c)
+    moles += el.mass[base + size_t(c)] / oil.components[size_t(c)].molecular_weight;
   if (!(moles > 0)) return;
   // The moles' sum at mid-step, from a half step at the start's rates, so that each cut's
   // exponential over the step is second-order accurate as the light cuts leave.
   double mid_moles = 0;
   for (int c = 0; c < el.cuts; ++c)
-    mid_moles += el.mass[base + size_t(c)] * std::exp(-0.5 * dt * common * k[c] / moles) /
+    mid_moles += el.mass[base + size_t(c)] * std::exp(-0.5 * dt * common * k[size_t(c)] / moles) /
                  oil.components[size_t(c)].molecular_weight;
   double lost = 0;
   for (int c = 0; c < el.cuts; ++c) {
-    if (k[c] == 0) continue;
+    if (k[size_t(c)] == 0) continue;
     double& m = el.mass[base + size_t(c)];
-    const double kept = m * std::exp(-dt * common * k[c] / mid_moles);
+    const double kept = m * std::exp(-dt * common * k[size_t(c)] / mid_moles);
     lost += m - kept;
     m = kept;
   }
@@ -143,8 +146,9 @@ void disperse(const OilRecord& oil, Elements& el, size_t e, const WeatherNow& w,
 }
 
 void weather_element(const OilRecord& oil, Elements& el, size_t e, const WeatherNow& w,
-                     const WeatheringSwitches& on, double slick_diameter, double dt) {
-  if (on.evaporation) evaporate(oil, el, e, w, slick_diameter, dt);
+                     const std::vector<double>& potentials, const WeatheringSwitches& on,
+                     double slick_diameter, double dt) {
+  if (on.evaporation) evaporate(oil, el, e, w, potentials, slick_diameter, dt);
   if (on.emulsification) emulsify(oil, el, e, w, dt);
   if (on.dispersion) disperse(oil, el, e, w, dt);
 }

@@ -22,6 +22,8 @@
 // Every kilogram an element loses is added to its evaporated or dispersed mass, so the budget
 // closes to rounding.
 
+#include <vector>
+
 #include "farfield/elements.h"
 #include "farfield/oil.h"
 
@@ -47,14 +49,20 @@ double oil_volume(const OilRecord& oil, const Elements& el, size_t e);   // m^3
 double oil_density(const OilRecord& oil, const Elements& el, size_t e);  // kg/m^3
 double emulsion_viscosity(const OilRecord& oil, const Elements& el, size_t e, double temperature_c);
 
-// Evaporates element e for dt with its slick's diameter `slick_diameter` (m).
+// Each pseudo-component's Sc^(-2/3) P(T) (Pa) at the water's temperature (deg C): what its
+// evaporation rate is proportional to, the same for every element at one moment.
+std::vector<double> evaporation_potentials(const OilRecord& oil, double temperature_c);
+
+// Evaporates element e for dt with its slick's diameter `slick_diameter` (m); `potentials` from
+// evaporation_potentials at w's temperature.
 void evaporate(const OilRecord& oil, Elements& el, size_t e, const WeatherNow& w,
-               double slick_diameter, double dt);
+               const std::vector<double>& potentials, double slick_diameter, double dt);
 void emulsify(const OilRecord& oil, Elements& el, size_t e, const WeatherNow& w, double dt);
 void disperse(const OilRecord& oil, Elements& el, size_t e, const WeatherNow& w, double dt);
 
 // All three, as switched.
 void weather_element(const OilRecord& oil, Elements& el, size_t e, const WeatherNow& w,
-                     const WeatheringSwitches& on, double slick_diameter, double dt);
+                     const std::vector<double>& potentials, const WeatheringSwitches& on,
+                     double slick_diameter, double dt);
 
 }  // namespace farfield

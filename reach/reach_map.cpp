@@ -81,26 +81,37 @@ std::string duration_label(double seconds) {
   return text;
 }
 
-common::RgbImage draw_reach_map(const Grid& g, const Field& bed, const WaterState& w, double time_s,
-                                double depth_scale, double speed_scale, double dry_depth,
-                                int max_width) {
+MapFrame reach_map_frame(const Grid& g, int max_width) {
   // Pixels per cell (a whole number), or cells per pixel when the grid is wider than allowed.
   const double cells_per_pixel = g.nx > max_width ? double(g.nx) / max_width : 0.0;
   const int per_cell = cells_per_pixel > 0 ? 1 : std::max(1, max_width / g.nx);
-  const int width = cells_per_pixel > 0 ? max_width : g.nx * per_cell;
+  MapFrame f;
+  f.width = cells_per_pixel > 0 ? max_width : g.nx * per_cell;
   const double cell_of_pixel = cells_per_pixel > 0 ? cells_per_pixel : 1.0 / per_cell;
-  const int height = int(std::lround(g.ny / cell_of_pixel * (g.dy / g.dx)));
+  f.height = int(std::lround(g.ny / cell_of_pixel * (g.dy / g.dx)));
+  f.metres_per_pixel = g.dx * cell_of_pixel;
+  f.band_top = f.height;
+  f.band_height = 4 * kPad + 3 * common::kGlyphHeight * common::kAnnotationTextScale;
+  f.x0 = g.x0;
+  f.y0 = g.y0;
+  return f;
+}
+
+common::RgbImage draw_reach_map(const Grid& g, const Field& bed, const WaterState& w, double time_s,
+                                double depth_scale, double speed_scale, double dry_depth,
+                                int max_width) {
+  const MapFrame frame = reach_map_frame(g, max_width);
+  const int width = frame.width, height = frame.height;
   double lo = 1e300, hi = -1e300;
   for (double z : bed)
     if (!std::isnan(z)) lo = std::min(lo, z), hi = std::max(hi, z);
   const double relief = relief_of(g, bed);
 
-  const int band = 4 * kPad + 3 * common::kGlyphHeight * common::kAnnotationTextScale;
   common::RgbImage img;
   img.width = width;
-  img.height = height + band;
+  img.height = height + frame.band_height;
   img.pixels.assign(size_t(img.width) * size_t(img.height) * 3, 255);
-  const double metres_per_pixel = g.dx * cell_of_pixel;
+  const double metres_per_pixel = frame.metres_per_pixel;
   const auto cell_at = [&](int px, int py, int& i, int& j) {
     i = std::clamp(int((px + 0.5) * metres_per_pixel / g.dx), 0, g.nx - 1);
     j = std::clamp(g.ny - 1 - int((py + 0.5) * metres_per_pixel / g.dy), 0, g.ny - 1);

@@ -13,6 +13,7 @@ packages=(
   libeigen3-dev libhdf5-dev nlohmann-json3-dev libgtest-dev libcli11-dev libpng-dev
   ffmpeg  # a run's pictures become its video (river.mp4)
   libgdal-dev gdal-bin  # the reach's rasters (GeoTIFF, ESRI ASCII, ...) in and out
+  libnetcdf-dev netcdf-bin  # the far field's CF trajectory NetCDF (ncdump: its test)
 )
 # The test suite opens report.html in headless Chromium (scripts/test.sh sets this).
 if [ "${SPILL_TEST_PACKAGES:-0}" = "1" ]; then

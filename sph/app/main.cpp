@@ -13,6 +13,9 @@
 //   spill-sim reach --config FILE --out DIR [--set /pointer=value ...] [--threads N] [--force]
 //   spill-sim reach-doc
 //   spill-sim reach-bench [--cells N ...] [--steps S] [--threads T]
+//   spill-sim forecast --config FILE --out DIR [--set /pointer=value ...] [--threads N] [--force]
+//   spill-sim forecast-doc
+//   spill-sim forecast-bench [--elements N ...] [--hours H] [--step S] [--threads T]
 
 #include <CLI/CLI.hpp>
 #include <iostream>
@@ -31,10 +34,17 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   const sph::CommandContext context{common::stop_flag(), &common::catch_stop_signals};
   const std::vector<sph::Command> commands = {
-      sph::add_run_command(app, context),       sph::add_bench_command(app, context),
-      sph::add_generate_command(app, context),  sph::add_compare_command(app, context),
-      sph::add_scene_doc_command(app, context), sph::add_reach_command(app, context),
-      sph::add_reach_doc_command(app, context), sph::add_reach_bench_command(app, context),
+      sph::add_run_command(app, context),
+      sph::add_bench_command(app, context),
+      sph::add_generate_command(app, context),
+      sph::add_compare_command(app, context),
+      sph::add_scene_doc_command(app, context),
+      sph::add_reach_command(app, context),
+      sph::add_reach_doc_command(app, context),
+      sph::add_reach_bench_command(app, context),
+      sph::add_forecast_command(app, context),
+      sph::add_forecast_doc_command(app, context),
+      sph::add_forecast_bench_command(app, context),
   };
   if (const auto stop = common::parse_command_line(app, argc, argv)) return *stop;
   try {

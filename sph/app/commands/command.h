@@ -30,6 +30,9 @@ Command add_scene_doc_command(CLI::App& app, const CommandContext& context);
 Command add_reach_command(CLI::App& app, const CommandContext& context);
 Command add_reach_doc_command(CLI::App& app, const CommandContext& context);
 Command add_reach_bench_command(CLI::App& app, const CommandContext& context);
+Command add_forecast_command(CLI::App& app, const CommandContext& context);
+Command add_forecast_doc_command(CLI::App& app, const CommandContext& context);
+Command add_forecast_bench_command(CLI::App& app, const CommandContext& context);
 
 // Sets OpenMP's thread count to `requested` (every core when 0) and flushes subnormals to zero,
 // as every simulation runs; returns the count.

@@ -1,0 +1,34 @@
+#pragma once
+// What a responder reads off the far field at one moment: the oiled area of the water, the
+// leading edge along the river (km), the oiled length and stranded volume of each bank per km,
+// the budget, and what has reached each watch point.
+
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "farfield/far_field_model.h"
+#include "reach/grid.h"
+
+namespace farfield {
+
+struct WatchPoint {
+  std::string name;
+  double x = 0, y = 0, radius = 50;
+  double km = 0;          // along the centreline
+  double arrival_s = -1;  // first time oil came within the radius; < 0: not yet
+};
+
+// The floating oil's footprint on `grid`: each element's area spread over the cell it lies in,
+// a cell covered at most once (m^2 per cell).
+reach::Field oiled_cells(const FarFieldModel& model, const reach::Grid& grid);
+
+// Marks each watch point's arrival when any floating or stranded element lies within its radius
+// (called after every step).
+void update_arrivals(const FarFieldModel& model, std::vector<WatchPoint>& points);
+
+// The record of one output time (forecast.json's "outputs" entries).
+nlohmann::json forecast_record(const FarFieldModel& model, const reach::Grid& grid,
+                               const std::vector<WatchPoint>& points);
+
+}  // namespace farfield

@@ -1,0 +1,49 @@
+#pragma once
+// A far-field forecast from its config (`spill-sim forecast --config FILE --out DIR`): the oil
+// released where the config says (a point or a line, a rate over time) on a finished reach run's
+// flow, stepped to the end, and the run folder written whole or not at all:
+//   forecast.json      per output time: oiled area, leading edge (km), oiled length and stranded
+//                      volume per bank and km, the budget, what reached each watch point
+//   budget.csv, budget.svg   the budget over time
+//   slick.geojson, shoreline.geojson   RFC 7946, WGS 84 lon/lat (geojson_output.h)
+//   elements.nc        CF-1.6 trajectory NetCDF of the elements (netcdf_output.h)
+//   png/map_NNNNN.png  a map per output time (forecast_map.h), in forecast.json's order
+
+#include <atomic>
+#include <nlohmann/json.hpp>
+#include <ostream>
+#include <string>
+#include <vector>
+
+#include "farfield/far_field_model.h"
+#include "farfield/forecast_config.h"
+#include "farfield/forecast_metrics.h"
+
+namespace farfield {
+
+struct ForecastRunOptions {
+  std::string config_file;
+  std::vector<std::string> overrides;
+  std::string out_dir;
+  bool force = false;
+  bool pictures = true;
+  const std::atomic<bool>* stop = nullptr;  // set by Ctrl-C: nothing is written, exit 130
+  std::ostream* log = nullptr;
+  bool terminal = false;
+  int threads = 1;
+};
+
+// The model of a config, checked against its flow: throws ConfigError naming the file and key
+// for an unknown oil, a negative rate, a release or watch point outside the reach, a series
+// (wind, temperature, waves, rate) that does not cover the forecast, an unknown bank class.
+struct ForecastSetup {
+  ForecastConfig config;
+  FarFieldSetup model;
+  std::vector<WatchPoint> watch_points;
+};
+ForecastSetup build_forecast(const ForecastConfig& config, const std::string& config_file);
+
+// Runs and writes the folder; returns forecast.json's content.
+nlohmann::json run_forecast(const ForecastRunOptions& options);
+
+}  // namespace farfield

@@ -1,0 +1,104 @@
+// spill-sim forecast --config FILE --out DIR [--set /pointer=value ...] [--threads N] [--force]
+// spill-sim forecast-doc
+// spill-sim forecast-bench [--elements N ...] [--hours H] [--step S] [--threads T]
+// The far field: oil released on a finished reach run's flow, drifting, spreading, weathering
+// and stranding (farfield/forecast_run.h); its pictures become a video here, where ffmpeg is
+// known (sph/io/animation.h).
+
+#include <unistd.h>
+
+#include <iostream>
+#include <memory>
+
+#include "common/command_line.h"
+#include "farfield/far_field_benchmark.h"
+#include "farfield/forecast_run.h"
+#include "sph/app/commands/command.h"
+#include "sph/app/scene_runner.h"
+#include "sph/io/animation.h"
+
+namespace sph {
+
+namespace {
+struct ForecastCommandOptions {
+  farfield::ForecastRunOptions run;
+  int threads = 0;
+  bool no_pictures = false;
+};
+}  // namespace
+
+Command add_forecast_command(CLI::App& app, const CommandContext& context) {
+  auto o = std::make_shared<ForecastCommandOptions>();
+  auto* c = app.add_subcommand(
+      "forecast",
+      "Forecast an oil slick kilometres down a river on a reach run's flow: drift, spreading, "
+      "weathering, stranding; write forecast.json, GeoJSON, NetCDF, the budget and maps");
+  c->add_option("--config", o->run.config_file, "Forecast config JSON (docs/far_field.md)")
+      ->required();
+  c->add_option("--out", o->run.out_dir, "Output folder (not replaced unless --force)")->required();
+  c->add_option("--set", o->run.overrides, "Override a config value: /json/pointer=value");
+  c->add_option("--threads", o->threads, "OpenMP threads (default: all cores)")
+      ->check(common::positive());
+  c->add_flag("--force", o->run.force,
+              "Replace an earlier forecast folder (only one of ours; removed after the new run)");
+  c->add_flag("--no-pictures", o->no_pictures, "Write no maps and no video");
+  c->footer(
+      "Exit code: 0 on success; 1 when the run failed; 2 for bad input (a config key, an unknown "
+      "oil, a negative rate, a release or watch point outside the reach, a series that does not "
+      "cover the forecast, a refused --out); 130 when interrupted. Nothing is written unless the "
+      "run finishes.");
+  return {c, [o, context] {
+            context.catch_stop_signals();
+            farfield::ForecastRunOptions run = o->run;
+            run.threads = use_threads(o->threads);
+            run.stop = context.stop;
+            run.log = &std::cerr;
+            run.terminal = isatty(STDERR_FILENO) != 0;
+            run.pictures = !o->no_pictures;
+            const nlohmann::json summary = farfield::run_forecast(run);
+            if (run.pictures) encode_animation(run.out_dir, "map", 0, 4, &std::cerr);
+            const auto& last = summary["outputs"].back();
+            std::cout << "wrote " << run.out_dir << ": " << summary["elements"] << " elements, "
+                      << summary["released_m3"] << " m3 released, t = " << summary["end_time_s"]
+                      << " s; leading edge " << last["leading_edge_km"] << " km, "
+                      << last["budget_fraction"]["evaporated"] << " evaporated, "
+                      << last["budget_fraction"]["stranded"] << " stranded\n";
+            return 0;
+          }};
+}
+
+Command add_forecast_doc_command(CLI::App& app, const CommandContext&) {
+  auto* c = app.add_subcommand(
+      "forecast-doc",
+      "Print every key of a forecast config as a Markdown table (docs/far_field_reference.md)");
+  return {c, [] {
+            std::cout << farfield::forecast_reference_markdown();
+            return 0;
+          }};
+}
+
+Command add_forecast_bench_command(CLI::App& app, const CommandContext&) {
+  auto elements = std::make_shared<std::vector<long>>(std::vector<long>{10000, 100000});
+  auto hours = std::make_shared<double>(24);
+  auto step = std::make_shared<double>(60);
+  auto threads = std::make_shared<int>(0);
+  auto* c = app.add_subcommand("forecast-bench",
+                               "Time the far field's elements weathering and drifting; print JSON");
+  c->add_option("--elements", *elements, "Element counts to time (default 10000 100000)");
+  c->add_option("--hours", *hours, "Simulated hours per count (default 24)")
+      ->check(common::positive());
+  c->add_option("--step", *step, "Time step in seconds (default 60)")->check(common::positive());
+  c->add_option("--threads", *threads, "OpenMP threads (default: all cores)")
+      ->check(common::positive());
+  return {c, [elements, hours, step, threads] {
+            const int used = use_threads(*threads);
+            const nlohmann::json out = {
+                {"benchmark", "far field (farfield/far_field_benchmark.h)"},
+                {"machine", machine_description(used)},
+                {"rows", farfield::benchmark_far_field(*elements, *hours, *step)}};
+            std::cout << out.dump(2) << "\n";
+            return 0;
+          }};
+}
+
+}  // namespace sph

@@ -1,0 +1,225 @@
+// A far-field forecast from its config (farfield/forecast_run.h) on a straight channel's reach
+// run made here: every output is written and readable by the tools a responder uses (GDAL's
+// ogrinfo for the RFC 7946 GeoJSON, ncdump for the CF NetCDF), the budget closes at every
+// output, and bad input is refused naming the file and the key with nothing written.
+
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <memory>
+#include <sstream>
+
+#include "common/config_error.h"
+#include "common/json_file.h"
+#include "farfield/forecast_run.h"
+#include "reach/raster.h"
+#include "reach/reach_run.h"
+
+namespace fs = std::filesystem;
+
+namespace {
+
+std::string shell(const std::string& command, int& status) {
+  std::string out;
+  FILE* pipe = popen((command + " 2>&1").c_str(), "r");
+  if (!pipe) return out;
+  std::array<char, 4096> buffer{};
+  while (fgets(buffer.data(), int(buffer.size()), pipe)) out += buffer.data();
+  status = pclose(pipe);
+  return out;
+}
+
+class Forecast : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    dir_ = fs::temp_directory_path() / ("spill_forecast_" + std::to_string(getpid()));
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+    // A channel 1 km long, its flat bed 60 m wide falling 1 in 1000 to the west between banks
+    // 2 m high, on 10 m cells in NZTM2000 coordinates; 12 m^3/s run to a steady state.
+    reach::Raster r;
+    r.grid.nx = 100, r.grid.ny = 8, r.grid.dx = r.grid.dy = 10;
+    r.grid.x0 = 1771000, r.grid.y0 = 5472000;
+    for (int j = 0; j < r.grid.ny; ++j)
+      for (int i = 0; i < r.grid.nx; ++i)
+        r.values.push_back(0.001 * r.grid.x(i) - 1771.0 + ((j == 0 || j == 7) ? 2.0 : 0.0));
+    r.crs_wkt = reach::crs_wkt_of("EPSG:2193");
+    reach::write_geotiff((dir_ / "channel.tif").string(), r);
+    const nlohmann::json reach_config = {
+        {"terrain", {{"file", "channel.tif"}, {"manning", 0.03}}},
+        {"inflows",
+         {{{"section", {{"name", "up"}, {"side", "east"}, {"from", 5472010}, {"to", 5472070}}},
+           {"discharge", {{"value", 12.0}}}}}},
+        {"outflows",
+         {{{"section", {{"name", "down"}, {"side", "west"}, {"from", 5472010}, {"to", 5472070}}},
+           {"kind", "normal_depth"},
+           {"slope", 0.001}}}},
+        {"end_time", 7200},
+        {"output_every", 1800},
+        {"steady_tolerance", 1e-5}};
+    std::ofstream(dir_ / "reach.json") << reach_config.dump(2);
+    reach::ReachRunOptions o;
+    o.config_file = (dir_ / "reach.json").string();
+    o.out_dir = (dir_ / "reach_run").string();
+    std::ostringstream log;
+    o.log = &log;
+    reach::run_reach(o);
+  }
+  static void TearDownTestSuite() { fs::remove_all(dir_); }
+
+  static nlohmann::json config() {
+    return {{"name", "channel spill"},
+            {"flow", {{"reach_run", "reach_run"}}},
+            {"centreline", {{1771995, 5472040}, {1771005, 5472040}}},
+            {"oil", "light_crude"},
+            {"releases",
+             {{{"position", {1771900, 5472040}},
+               {"start", 0},
+               {"end", 300},
+               {"rate", {{"value", 0.01}}},
+               {"elements", 600}}}},
+            {"environment",
+             {{"water_temperature", {{"value", 12}}},
+              {"wind_speed", {{"points", {{0, 3}, {1200, 6}}}}},
+              {"wind_from", {{"value", 100}}}}},
+            {"banks",
+             {{"bin_length", 50},
+              {"classes", {{{"name", "grass"}, {"capacity", 0.005}, {"refloat_half_life", 2}}}},
+              {"default_class", "grass"}}},
+            {"watch_points", {{{"name", "intake"}, {"position", {1771300, 5472040}}}}},
+            {"end_time", 1200},
+            {"time_step", 30},
+            {"output_every", 300},
+            {"start_date", "2026-06-01T06:00:00Z"}};
+  }
+  static nlohmann::json run(const nlohmann::json& c, const std::string& out,
+                            const std::vector<std::string>& overrides = {}) {
+    std::ofstream(dir_ / "forecast.json") << c.dump(2);
+    farfield::ForecastRunOptions o;
+    o.config_file = (dir_ / "forecast.json").string();
+    o.overrides = overrides;
+    o.out_dir = (dir_ / out).string();
+    return farfield::run_forecast(o);
+  }
+  // The message of the input error a run throws ("" when none), checking nothing was written.
+  static std::string refusal(const std::vector<std::string>& overrides) {
+    try {
+      run(config(), "refused", overrides);
+    } catch (const common::InputError& e) {
+      EXPECT_FALSE(fs::exists(dir_ / "refused")) << "a refused forecast wrote its folder";
+      return e.what();
+    }
+    return "";
+  }
+  static fs::path dir_;
+};
+fs::path Forecast::dir_;
+
+}  // namespace
+
+TEST_F(Forecast, WritesEveryOutputThatItsToolsRead) {
+  const nlohmann::json summary = run(config(), "out");
+  const fs::path out = dir_ / "out";
+  for (const char* f : {"forecast.json", "budget.csv", "budget.svg", "slick.geojson",
+                        "shoreline.geojson", "elements.nc", "png/map_00000.png"})
+    EXPECT_TRUE(fs::exists(out / f)) << f;
+  // Released as configured: 0.01 m^3/s for 300 s.
+  EXPECT_NEAR(summary["released_m3"].get<double>(), 3.0, 1e-9);
+  ASSERT_EQ(summary["outputs"].size(), 5u);
+  for (const auto& o : summary["outputs"])
+    EXPECT_LT(o["budget_kg"]["closure_error"].get<double>(), 1e-9);
+  EXPECT_LT(summary["budget_closure_worst"].get<double>(), 1e-9);
+  const auto& last = summary["outputs"].back();
+  EXPECT_GT(last["oiled_area_m2"].get<double>(), 0);
+  EXPECT_GT(last["leading_edge_km"].get<double>(), 0.1);  // it left the release point
+  EXPECT_GT(last["budget_fraction"]["evaporated"].get<double>(), 0);
+  // The intake 600 m downstream of the release is reached (the surface moves at about 0.4 m/s).
+  EXPECT_TRUE(summary["watch_points"][0]["arrival_s"].is_number());
+  EXPECT_NEAR(summary["watch_points"][0]["km"].get<double>(), 0.695, 1e-6);
+
+  int status = -1;
+  const std::string info =
+      shell("ogrinfo -so " + (out / "slick.geojson").string() + " slick", status);
+  EXPECT_EQ(status, 0) << info;
+  EXPECT_NE(info.find("GeoJSON"), std::string::npos) << info;
+  EXPECT_NE(info.find("WGS 84"), std::string::npos) << info;
+  const std::string shore =
+      shell("ogrinfo -so " + (out / "shoreline.geojson").string() + " stranded_shoreline", status);
+  EXPECT_EQ(status, 0) << shore;
+  const std::string header = shell("ncdump -h " + (out / "elements.nc").string(), status);
+  EXPECT_EQ(status, 0) << header;
+  for (const char* attribute :
+       {":featureType = \"trajectory\"", ":Conventions = \"CF-1.6\"", "cf_role = \"trajectory_id\"",
+        "lon:units = \"degrees_east\"", "lat:standard_name = \"latitude\"", "status:flag_meanings"})
+    EXPECT_NE(header.find(attribute), std::string::npos) << attribute << "\n" << header;
+
+  // RFC 7946: lon/lat in NZ (east of 166 deg, south of -34 deg), exterior rings counter-clockwise.
+  const nlohmann::json slick = common::load_json_file((out / "slick.geojson").string(), "slick");
+  ASSERT_FALSE(slick["features"].empty());
+  for (const auto& f : slick["features"]) {
+    const auto& ring = f["geometry"]["coordinates"][0];
+    double twice_area = 0;
+    for (size_t k = 0; k + 1 < ring.size(); ++k) {
+      EXPECT_GT(ring[k][0].get<double>(), 166);
+      EXPECT_LT(ring[k][1].get<double>(), -34);
+      twice_area += ring[k][0].get<double>() * ring[k + 1][1].get<double>() -
+                    ring[k + 1][0].get<double>() * ring[k][1].get<double>();
+    }
+    EXPECT_GT(twice_area, 0) << "an exterior ring runs clockwise";
+  }
+}
+
+TEST_F(Forecast, BadInputIsRefusedNamingTheFileAndKey) {
+  const auto names = [](const std::string& message, const std::string& key) {
+    return message.find("forecast.json") != std::string::npos &&
+           message.find(key) != std::string::npos;
+  };
+  std::string m = refusal({"/oil=\"whale oil\""});
+  EXPECT_TRUE(names(m, "/oil")) << m;
+  EXPECT_NE(m.find("medium_crude"), std::string::npos) << m;  // the library is listed
+  m = refusal({"/releases/0/rate/value=-0.01"});
+  EXPECT_TRUE(names(m, "/releases/0/rate")) << m;
+  m = refusal({"/watch_points/0/position=[1790000, 5472040]"});
+  EXPECT_TRUE(names(m, "/watch_points/0/position")) << m;
+  EXPECT_NE(m.find("outside the reach"), std::string::npos) << m;
+  m = refusal({"/environment/wind_speed/points=[[0, 3], [600, 6]]"});
+  EXPECT_TRUE(names(m, "/environment/wind_speed")) << m;
+  EXPECT_NE(m.find("extend it"), std::string::npos) << m;
+  m = refusal({"/banks/default_class=\"rock\""});
+  EXPECT_TRUE(names(m, "/banks/default_class")) << m;
+  m = refusal({"/releases/0/position=[1771500, 5472005]"});  // on the dry bank top
+  EXPECT_TRUE(names(m, "/releases/0/position")) << m;
+  m = refusal({"/flow/reach_run=\"nowhere\""});
+  EXPECT_TRUE(names(m, "/flow/reach_run")) << m;
+}
+
+// docs/far_field_reference.md is `spill-sim forecast-doc`'s output: regenerate it when a key
+// changes (spill-sim forecast-doc > docs/far_field_reference.md).
+TEST(ForecastConfig, TheReferenceDocumentsEveryKey) {
+  std::ifstream in(std::string(SPILL_SOURCE_DIR) + "/docs/far_field_reference.md");
+  std::stringstream text;
+  text << in.rdbuf();
+  EXPECT_NE(text.str().find(farfield::forecast_reference_markdown()), std::string::npos)
+      << "regenerate docs/far_field_reference.md with spill-sim forecast-doc";
+}
+
+// Every shipped forecast loads, and builds on its reach run, or names the run it needs.
+TEST(ForecastConfig, EveryShippedConfigBuildsOrNamesItsReachRun) {
+  for (const auto& entry :
+       fs::directory_iterator(std::string(SPILL_SOURCE_DIR) + "/configs/far_field")) {
+    const std::string file = entry.path().string();
+    const farfield::ForecastConfig c = farfield::load_forecast_config(file, {});
+    try {
+      const farfield::ForecastSetup s = farfield::build_forecast(c, file);
+      EXPECT_FALSE(s.model.releases.empty()) << file;
+    } catch (const common::ConfigError& e) {
+      EXPECT_NE(std::string(e.what()).find("/flow/reach_run"), std::string::npos) << e.what();
+      EXPECT_FALSE(fs::exists(c.flow.reach_run + "/reach.json")) << e.what();
+    }
+  }
+}
