@@ -24,6 +24,7 @@ ForecastConfig load_forecast_config(const std::string& file,
   resolve(c.environment.wind_from.file);
   if (c.environment.wave_height) resolve(c.environment.wave_height->file);
   if (c.oil.find('/') != std::string::npos) resolve(c.oil);
+  if (c.near_field) resolve(c.near_field->scene);
   return c;
 }
 

@@ -162,6 +162,24 @@ struct WatchPointConfig {
   }
 };
 
+// The SPH near field whose oil the far field takes over (`spill-sim forecast` runs it first).
+struct NearFieldConfig {
+  std::string scene;
+  std::vector<std::string> set;
+  int elements_per_parcel = 20;
+  template <class V>
+  void describe(V& v) {
+    v.field("scene", scene,
+            param("",
+                  "A near-field scene inside this reach run (terrain source reach, with a leak), "
+                  "relative to the config's folder")
+                .require());
+    v.field("set", set, param("", "Overrides of the scene's values, \"/pointer=value\" each"));
+    v.field("elements_per_parcel", elements_per_parcel,
+            param("", "Far-field elements each handed-over parcel of oil becomes").at_least(1));
+  }
+};
+
 struct ForecastConfig {
   std::string name = "forecast";
   std::string description;
@@ -169,6 +187,7 @@ struct ForecastConfig {
   std::vector<std::vector<double>> centreline;
   std::string oil;
   std::vector<ReleaseConfig> releases;
+  std::optional<NearFieldConfig> near_field;
   EnvironmentConfig environment;
   DriftSettings drift;
   BanksConfig banks;
@@ -188,7 +207,10 @@ struct ForecastConfig {
                   "An oil of the library (farfield/oils: light_crude, medium_crude, "
                   "diluted_bitumen) or a path to an oil record JSON")
                 .require());
-    v.field("releases", releases, param("", "Where and when oil enters").require());
+    v.field("releases", releases,
+            param("", "Where and when oil enters directly (a point or a line, a rate over time)"));
+    v.field("near_field", near_field,
+            param("", "An SPH near field whose oil is handed over as it leaves its box"));
     v.field("environment", environment, param("", "Weather and water").require());
     v.field("drift", drift, param("", "Surface drift and mixing"));
     v.field("banks", banks, param("", "Bank classes and stranding").require());
@@ -207,7 +229,8 @@ struct ForecastConfig {
       throw ConfigError(file, pointer + "/centreline", "expected at least 2 points");
     for (size_t k = 0; k < centreline.size(); ++k)
       check_point(centreline[k], file, pointer + "/centreline/" + std::to_string(k));
-    if (releases.empty()) throw ConfigError(file, pointer + "/releases", "expected a release");
+    if (releases.empty() && !near_field)
+      throw ConfigError(file, pointer + "/releases", "expected a release or a near_field");
     if (output_every < time_step)
       throw ConfigError(file, pointer + "/output_every", "expected >= time_step");
   }

@@ -353,11 +353,27 @@ nlohmann::json run_forecast(const ForecastRunOptions& o) {
   const long steps = long(std::ceil(config.end_time / config.time_step - 1e-9));
   const long every = std::max(1L, long(std::lround(config.output_every / config.time_step)));
   common::ProgressReporter progress(o.log ? *o.log : std::cerr, o.terminal, steps, "forecast");
+  if (config.near_field && o.handover.empty())
+    throw ConfigError(o.config_file, "/near_field",
+                      "no oil was handed over from the near field (run it with spill-sim "
+                      "forecast, which runs the near field first)");
   output();
-  double worst_closure = 0;
+  double worst_closure = 0, handed_over_m3 = 0;
+  size_t next_parcel = 0;
   for (long k = 1; k <= steps; ++k) {
     if (o.stop && o.stop->load()) throw common::Interrupted("forecast interrupted");
-    model.step(std::min(config.time_step, config.end_time - model.time()));
+    const double dt = std::min(config.time_step, config.end_time - model.time());
+    // The near field's oil that left its box during this step joins the far field now.
+    for (; next_parcel < o.handover.size() && o.handover[next_parcel].t < model.time() + dt;
+         ++next_parcel) {
+      // Each parcel as several elements, so that the mixing spreads it as a cloud.
+      const HandoverParcel& p = o.handover[next_parcel];
+      const int n = config.near_field ? config.near_field->elements_per_parcel : 1;
+      for (int k = 0; k < n; ++k)
+        model.add_element(p.x, p.y, p.volume / n * setup.model.oil.density, p.area / n);
+      handed_over_m3 += p.volume;
+    }
+    model.step(dt);
     update_arrivals(model, points);
     worst_closure = std::max(worst_closure, model.budget().closure_error());
     if (k % every == 0 || k == steps) output();
@@ -422,6 +438,12 @@ nlohmann::json run_forecast(const ForecastRunOptions& o) {
       {"budget_closure_worst", worst_closure},
       {"released_m3", b.released / setup.model.oil.density},
       {"watch_points", watch},
+      {"handover", o.handover.empty()
+                       ? nlohmann::json()
+                       : nlohmann::json{{"near_field", o.handover_summary},
+                                        {"parcels", o.handover.size()},
+                                        {"volume_m3", handed_over_m3},
+                                        {"mass_kg", handed_over_m3 * setup.model.oil.density}}},
       {"outputs", outputs},
       {"wall_s", wall},
       {"threads", o.threads},

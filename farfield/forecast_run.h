@@ -21,12 +21,20 @@
 
 namespace farfield {
 
+// Oil handed over from a near field: `volume` m^3 at map point (x, y) at forecast time t.
+struct HandoverParcel {
+  double t = 0, x = 0, y = 0, volume = 0, area = 0;
+};
+
 struct ForecastRunOptions {
   std::string config_file;
   std::vector<std::string> overrides;
   std::string out_dir;
   bool force = false;
   bool pictures = true;
+  // The near field's oil (sorted by time) and what forecast.json says of its run.
+  std::vector<HandoverParcel> handover;
+  nlohmann::json handover_summary;
   const std::atomic<bool>* stop = nullptr;  // set by Ctrl-C: nothing is written, exit 130
   std::ostream* log = nullptr;
   bool terminal = false;

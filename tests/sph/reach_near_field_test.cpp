@@ -13,8 +13,10 @@
 #include <sstream>
 
 #include "common/config_error.h"
+#include "farfield/forecast_run.h"
 #include "reach/raster.h"
 #include "reach/reach_run.h"
+#include "sph/app/near_field_handover.h"
 #include "sph/scene/scene_loader.h"
 #include "sph/simulation/simulation.h"
 
@@ -265,6 +267,70 @@ TEST_F(ReachNearField, RefusesSettingsTheReachGivesAndABoxOffIt) {
   ASSERT_EQ(h0.size(), h1.size());
   for (size_t k = 0; k < h0.size(); ++k) ASSERT_NEAR(double(h0[k]), double(h1[k]), 1e-5) << k;
   EXPECT_NEAR(double(again.config.flow->speed), double(scene.config.flow->speed), 1e-5);
+}
+
+// The near field's oil handed over to the far field (sph/app/near_field_handover.h): a leak in
+// the flume's box from 0.2 s to 0.7 s, the box run to 2 s; the oil that left the box and the oil
+// still in it add up to what the leak's schedule released, to one particle's volume, some of it
+// having left through the outflow; and the far field, given those parcels, releases exactly their
+// oil.
+TEST_F(ReachNearField, TheOilHandedOverIsTheOilThatLeftOrRemainsInTheBox) {
+  nlohmann::json scene = scene_json();
+  scene["end_time"] = 2.0;  // the leak's first oil leaves the box from 1.7 s, its last by 2.4 s
+  const double rate = 0.002, duration = 0.5;
+  scene["leaks"] = {{{"x", 0.8},
+                     {"position", "centre"},
+                     {"rate", rate},
+                     {"speed", 0.3},
+                     {"start", 0.2},
+                     {"duration", duration}}};
+  std::ofstream(dir_ / "leak_scene.json") << scene.dump(2);
+  const NearFieldHandover near =
+      run_near_field_handover((dir_ / "leak_scene.json").string(), {}, nullptr, nullptr, false);
+  const double particle = std::pow(0.04, 3);
+  ASSERT_NEAR(near.particle_volume_m3, particle, 1e-6 * particle);  // in float
+  EXPECT_NEAR(near.left_m3 + near.remaining_m3, rate * duration, particle);
+  EXPECT_GT(near.left_m3, 0) << "no oil left the box in 2 s";
+  EXPECT_GT(near.remaining_m3, 0);
+  double parcels = 0;
+  for (const NearFieldParcel& p : near.parcels) {
+    parcels += p.volume;
+    // Map coordinates inside the box's footprint around (kX0 + 8, kY0 + 1.2).
+    EXPECT_NEAR(p.x, kX0 + 8, 1.5);
+    EXPECT_NEAR(p.y, kY0 + 1.2, 1.5);
+    if (p.left) {
+      EXPECT_GT(p.x, kX0 + 8 + 0.5) << "oil left the box upstream of its outflow";
+    }
+  }
+  EXPECT_NEAR(parcels, near.left_m3 + near.remaining_m3, 1e-12);
+
+  // The far field takes them over on the flume's flow: every cubic metre, at its density.
+  const nlohmann::json forecast = {
+      {"flow", {{"reach_run", "flume_run"}}},
+      {"centreline", {{kX0 + 0.5, kY0 + 1.2}, {kX0 + 15.5, kY0 + 1.2}}},
+      {"oil", "medium_crude"},
+      {"near_field", {{"scene", "leak_scene.json"}, {"elements_per_parcel", 3}}},
+      {"environment",
+       {{"water_temperature", {{"value", 15}}},
+        {"wind_speed", {{"value", 0}}},
+        {"wind_from", {{"value", 0}}}}},
+      {"banks", {{"classes", {{{"name", "concrete"}}}}, {"default_class", "concrete"}}},
+      {"end_time", 60},
+      {"time_step", 1},
+      {"output_every", 30}};
+  std::ofstream(dir_ / "forecast.json") << forecast.dump(2);
+  farfield::ForecastRunOptions o;
+  o.config_file = (dir_ / "forecast.json").string();
+  o.out_dir = (dir_ / "forecast_out").string();
+  o.pictures = false;
+  for (const NearFieldParcel& p : near.parcels)
+    o.handover.push_back({p.t, p.x, p.y, p.volume, p.area});
+  const nlohmann::json summary = farfield::run_forecast(o);
+  const double density = summary["outputs"].back()["budget_kg"]["released"].get<double>() /
+                         summary["handover"]["volume_m3"].get<double>();
+  EXPECT_NEAR(summary["handover"]["volume_m3"].get<double>(), parcels, 1e-12);
+  EXPECT_NEAR(density, 863.9, 1e-9 * 863.9);
+  EXPECT_EQ(summary["elements"].get<size_t>(), 3 * near.parcels.size());
 }
 
 }  // namespace sph

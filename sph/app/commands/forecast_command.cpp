@@ -2,11 +2,13 @@
 // spill-sim forecast-doc
 // spill-sim forecast-bench [--elements N ...] [--hours H] [--step S] [--threads T]
 // The far field: oil released on a finished reach run's flow, drifting, spreading, weathering
-// and stranding (farfield/forecast_run.h); its pictures become a video here, where ffmpeg is
-// known (sph/io/animation.h).
+// and stranding (farfield/forecast_run.h). Here, where the near field and the far field meet,
+// a config's near field is run first and its oil handed over as it leaves the box
+// (sph/app/near_field_handover.h); the pictures become a video (sph/io/animation.h).
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <iostream>
 #include <memory>
 
@@ -14,6 +16,7 @@
 #include "farfield/far_field_benchmark.h"
 #include "farfield/forecast_run.h"
 #include "sph/app/commands/command.h"
+#include "sph/app/near_field_handover.h"
 #include "sph/app/scene_runner.h"
 #include "sph/io/animation.h"
 
@@ -55,6 +58,19 @@ Command add_forecast_command(CLI::App& app, const CommandContext& context) {
             run.log = &std::cerr;
             run.terminal = isatty(STDERR_FILENO) != 0;
             run.pictures = !o->no_pictures;
+            // A near field first: its oil becomes the far field's as it leaves the box.
+            const farfield::ForecastConfig config =
+                farfield::load_forecast_config(run.config_file, run.overrides);
+            if (config.near_field) {
+              const NearFieldHandover near =
+                  run_near_field_handover(config.near_field->scene, config.near_field->set,
+                                          run.stop, run.log, run.terminal);
+              for (const NearFieldParcel& p : near.parcels)
+                run.handover.push_back({p.t, p.x, p.y, p.volume, p.area});
+              std::stable_sort(run.handover.begin(), run.handover.end(),
+                               [](const auto& a, const auto& b) { return a.t < b.t; });
+              run.handover_summary = near.summary;
+            }
             const nlohmann::json summary = farfield::run_forecast(run);
             if (run.pictures) encode_animation(run.out_dir, "map", 0, 4, &std::cerr);
             const auto& last = summary["outputs"].back();

@@ -1,0 +1,43 @@
+#pragma once
+// The near field's oil handed over to the far field: a MTDF-SPH scene inside a reach run
+// (terrain source "reach") is run to its end, and every bit of oil that leaves the box (retired
+// at its outflow or over a terrain edge) becomes a parcel at the frame it left, at its last
+// position in the box; what oil remains in the box at the end becomes parcels then. A parcel
+// holds the oil volume (oil fraction x rest volume) of one particle of oil (oil fraction >= 0.5),
+// or, lumped per frame, of all the particles below that (water carrying traces of oil), so the
+// oil handed over is all the oil that entered the box, to rounding. Positions are map
+// coordinates of the reach's CRS (the box's frame turned by its heading).
+
+#include <atomic>
+#include <nlohmann/json.hpp>
+#include <ostream>
+#include <string>
+#include <vector>
+
+namespace sph {
+
+struct NearFieldParcel {
+  double t = 0;         // s of the near field's clock (its scene's time)
+  double x = 0, y = 0;  // map coordinates
+  double u = 0, v = 0;  // m/s, east and north, its velocity when it left
+  double volume = 0;    // m^3 of oil
+  double area = 0;      // m^2: the particles' cross-section, volume^(2/3) each
+  bool left = true;     // false: still in the box at the end
+};
+
+struct NearFieldHandover {
+  std::vector<NearFieldParcel> parcels;
+  double left_m3 = 0, remaining_m3 = 0;
+  double particle_volume_m3 = 0;  // one particle's rest volume
+  double oil_density = 0;         // kg/m^3, the near field's
+  nlohmann::json summary;         // for forecast.json
+};
+
+// Throws ConfigError naming the scene file for a scene that is not a near field inside a reach
+// run or has no oil leak; SimulationError when the run fails; RunInterrupted on request.
+NearFieldHandover run_near_field_handover(const std::string& scene_file,
+                                          const std::vector<std::string>& overrides,
+                                          const std::atomic<bool>* stop, std::ostream* log,
+                                          bool terminal);
+
+}  // namespace sph
