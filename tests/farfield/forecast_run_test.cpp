@@ -4,6 +4,7 @@
 // output, and bad input is refused naming the file and the key with nothing written.
 
 #include <gtest/gtest.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include <array>
@@ -222,4 +223,21 @@ TEST(ForecastConfig, EveryShippedConfigBuildsOrNamesItsReachRun) {
       EXPECT_FALSE(fs::exists(c.flow.reach_run + "/reach.json")) << e.what();
     }
   }
+}
+
+// With a near field, spill-sim forecast checks the far field's own input before it spends
+// minutes on the near field's SPH: a bad oil is refused at once (exit 2, naming the key).
+TEST(ForecastCommand, ANearFieldForecastRefusesBadInputBeforeTheNearField) {
+  const std::string config =
+      std::string(SPILL_SOURCE_DIR) + "/configs/far_field/white_river_leak_forecast.json";
+  const std::string out =
+      (fs::temp_directory_path() / ("spill_forecast_cli_" + std::to_string(getpid()))).string();
+  int status = -1;
+  const std::string said = shell(std::string(SPILL_SIM_EXE) + " forecast --config " + config +
+                                     " --set /oil=whale_oil --out " + out,
+                                 status);
+  EXPECT_EQ(WEXITSTATUS(status), 2) << said;
+  EXPECT_NE(said.find("/oil"), std::string::npos) << said;
+  EXPECT_EQ(said.find("near field"), std::string::npos) << "the near field ran first:\n" << said;
+  EXPECT_FALSE(fs::exists(out));
 }

@@ -62,6 +62,9 @@ Command add_forecast_command(CLI::App& app, const CommandContext& context) {
             const farfield::ForecastConfig config =
                 farfield::load_forecast_config(run.config_file, run.overrides);
             if (config.near_field) {
+              // The far field's own input first, so that a bad key is said before the near
+              // field's minutes of SPH, not after.
+              farfield::build_forecast(config, run.config_file);
               const NearFieldHandover near =
                   run_near_field_handover(config.near_field->scene, config.near_field->set,
                                           run.stop, run.log, run.terminal);
