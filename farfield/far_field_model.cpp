@@ -111,10 +111,10 @@ void FarFieldModel::step(double dt) {
       const double most = el.released_mass[e] / setup_.oil.density / min_thickness;
       el.area[e] = std::max(el.area[e], std::min(share * slick.area_at(el.age[e]), most));
     }
-    const double min_depth = std::max(setup_.dry_depth, thickness(e));
+    const double volume = emulsion_volume(e);
+    const double min_depth = std::max(setup_.dry_depth, volume / el.area[e]);  // its thickness
     // A bank bin that cannot take this element turns it away (the bins are only read while the
     // elements drift side by side; the stranding below checks again in element order).
-    const double volume = emulsion_volume(e);
     const BankFull bank_full = [this, volume](double x, double y) {
       const int bin = setup_.banks.bin_at(setup_.centreline.locate(x, y));
       return bank_held_[size_t(bin)] + volume > setup_.banks.capacity_m3(bin);
