@@ -165,7 +165,7 @@ void run_training(TrainCommandLine& c) {
     if (launch.rank == 0)
       std::cerr << "threads: " << mix.threads << " LibTorch, " << mix.blas_threads
                 << " BLAS (the measured best split for " << model.name() << " on " << threads
-                << ")\n";
+                << "), " << gnn::blas_kernels() << " BLAS kernels\n";
   }
   const double loss = trainer->run();
   if (launch.rank != 0) return;

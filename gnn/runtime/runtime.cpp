@@ -1,6 +1,7 @@
 #include "gnn/runtime/runtime.h"
 
 #include "common/exit_codes.h"
+#include "gnn/runtime/blas_kernels.h"
 
 #include <dlfcn.h>
 #include <malloc.h>
@@ -19,6 +20,7 @@ void configure_runtime(const RuntimeSettings& settings) {
   mallopt(M_MMAP_MAX, 0);
   mallopt(M_TRIM_THRESHOLD, std::numeric_limits<int>::max());
   mallopt(M_TOP_PAD, 64 << 20);
+  select_blas_kernels();
   const int threads = settings.threads > 0 ? settings.threads : 1;
   torch::set_num_threads(threads);
   omp_set_num_threads(threads);

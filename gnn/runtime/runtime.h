@@ -6,7 +6,11 @@
 //    does not reach, so all three are set together;
 //  - allocator: glibc's malloc hands large blocks back to the OS after every step, so the
 //    gather/scatter-heavy graph code page-faults its tensors in again each step (2-4x slower);
-//    taking every block from the heap and never trimming it keeps them mapped.
+//    taking every block from the heap and never trimming it keeps them mapped;
+//  - matrix kernels: OpenBLAS's fallback to SSE3 kernels on CPUs it does not know is undone
+//    (blas_kernels.h).
+
+#include "gnn/runtime/blas_kernels.h"
 
 #include <torch/torch.h>
 

@@ -125,6 +125,7 @@ int main(int argc, char** argv) {
       {"cpu", cpu_name()}, {"cores", std::thread::hardware_concurrency()}, {"kernel", u.release}};
   out["threads"] = threads;
   out["blas_threads"] = blas_threads > 0 ? blas_threads : threads;
+  out["blas_kernels"] = gnn::blas_kernels();
   out["build_type"] = SPILL_BUILD_TYPE;
   out["torch_threads"] = torch::get_num_threads();
 

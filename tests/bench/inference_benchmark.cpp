@@ -116,6 +116,7 @@ void run(const std::vector<std::string>& checkpoints, const std::string& data_di
   out["split"] = split;
   out["frames"] = frame_count;
   out["threads"] = threads;
+  out["blas_kernels"] = gnn::blas_kernels();
   nlohmann::json models = nlohmann::json::array();
   std::map<double, nlohmann::json> reuse_by_radius;
   for (const auto& path : checkpoints) {

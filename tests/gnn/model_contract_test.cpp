@@ -5,6 +5,7 @@
 // small config in tests/gnn/small_models.h).
 #include <gtest/gtest.h>
 
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -131,6 +132,25 @@ TEST(ModelContract, FusedInferenceLeavesTheBlasThreadsAloneAndAgreesEitherWay) {
         << (reference - fused).abs().max().item<float>();
   }
   gnn::configure_runtime({1, before});
+}
+
+// OpenBLAS 0.3.21 falls back to its SSE3 (Prescott) kernels on CPUs it does not know, at a third
+// to a quarter of the AVX-512 kernels' speed; the runtime selects the kernels the CPU can run,
+// and a product through them still equals one in double precision.
+TEST(ModelContract, TheRuntimeRunsMatrixProductsOnKernelsTheCpuHas) {
+  gnn::configure_runtime({1, gnn::blas_threads()});
+  const std::string kernels = gnn::blas_kernels();
+  if (kernels == "not OpenBLAS") GTEST_SKIP() << "the BLAS in use is not OpenBLAS";
+  if (std::getenv("OPENBLAS_CORETYPE")) GTEST_SKIP() << "OPENBLAS_CORETYPE chooses the kernels";
+  __builtin_cpu_init();
+  if (__builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma")) {
+    EXPECT_NE(kernels, "prescott");
+  }
+  torch::manual_seed(8);
+  const auto a = torch::randn({300, 200}), b = torch::randn({200, 100});
+  const auto exact = torch::mm(a.to(torch::kDouble), b.to(torch::kDouble));
+  const double error = (torch::mm(a, b).to(torch::kDouble) - exact).abs().max().item<double>();
+  EXPECT_LT(error, 1e-4 * exact.abs().max().item<double>()) << kernels;
 }
 
 // Statistics for a model that converts its output with them (DPI-Nets): a
