@@ -6,7 +6,11 @@ MSE and oil IoU at the given times, the responder's errors (slick area and leadi
 times and over all frames, bank contact and watch-point arrival), then each figure's place
 between floor and ceiling.
 
-usage: scripts/ceiling_table.py COMPARISON_JSON [SECONDS ...]   (default seconds: 1 2 4)
+usage: scripts/ceiling_table.py COMPARISON_JSON [MORE_JSON ...] [SECONDS ...]   (default seconds: 1 2 4)
+
+The floor and the ceiling come from the first file. Further files (runs of the same data and
+start, for example with `--relax 3`) add their learned models, named with a `+relaxK` suffix
+where their rollouts were relaxed, so that every model is scored against the unrelaxed floor.
 
 Seed groups: rows whose names differ only by a trailing _f40 / _sN (gns_f40, gns_s2, gns_s3)
 are averaged, with their spread over seeds. A figure at a time t is the mean over trajectories
@@ -23,11 +27,20 @@ def position(value, floor, ceiling):
 
 
 def main():
-    data = json.load(open(sys.argv[1]))
-    seconds = [float(s) for s in sys.argv[2:]] or [1.0, 2.0, 4.0]
+    files = [sys.argv[1]] + [a for a in sys.argv[2:] if a.endswith(".json")]
+    seconds = [float(a) for a in sys.argv[2:] if not a.endswith(".json")] or [1.0, 2.0, 4.0]
+    data = json.load(open(files[0]))
     dt = data["frame_dt"]
     rows = {m["name"]: m for m in data["models"]}
     floor, ceiling = rows["constant_velocity"], rows["sph_ceiling"]
+    for path in files[1:]:
+        more = json.load(open(path))
+        if (more["frame_dt"], more["from_frame"], more["data"]) != (dt, data["from_frame"], data["data"]):
+            sys.exit("%s: another dataset, frame interval or start than %s" % (path, files[0]))
+        relax = more.get("relax_iterations", 0)
+        for m in more["models"]:
+            if m["name"] not in ("constant_velocity", "sph_ceiling"):
+                rows[m["name"] + ("+relax%d" % relax if relax else "")] = m
 
     def at(model, series, t):
         values = model["by_frame"].get(series, [])
@@ -42,7 +55,7 @@ def main():
     for name, model in rows.items():
         if name in ("constant_velocity", "sph_ceiling"):
             continue
-        groups.setdefault(re.sub(r"_(f\d+|s\d+)$", "", name), []).append(model)
+        groups.setdefault(re.sub(r"_(f\d+|s\d+)(?=$|\+)", "", name), []).append(model)
 
     def cell(values):
         if any(math.isnan(v) for v in values):
@@ -96,6 +109,15 @@ def main():
             v = statistics.mean(whole(m, key) for m in models)
             line.append("%.2f" % position(v, whole(floor, key), whole(ceiling, key)))
         print("| " + " | ".join(line) + " |")
+    print()
+    print("First time each model's position MSE (mean over seeds) is above the floor's:")
+    print()
+    frames = len(floor["by_frame"]["rollout_mse"])
+    for g, models in groups.items():
+        above = [k for k in range(1, frames + 1)
+                 if statistics.mean(at(m, "rollout_mse", k * dt) for m in models) >
+                 at(floor, "rollout_mse", k * dt)]
+        print("- %s: %s" % (g, "%.1f s" % (above[0] * dt) if above else "never, to %.1f s" % (frames * dt)))
 
 
 if __name__ == "__main__":
