@@ -1,7 +1,6 @@
 #include "gnn/runtime/blas_kernels.h"
 
 #include <dlfcn.h>
-#include <strings.h>
 #include <cctype>
 #include <cstdlib>
 
@@ -25,16 +24,23 @@ const char* best_supported_core() {
 
 }  // namespace
 
+std::string blas_kernels() {
+  auto core_name = reinterpret_cast<CoreName>(dlsym(RTLD_DEFAULT, "openblas_get_corename"));
+  if (!core_name) return "not OpenBLAS";
+  const char* name = core_name();
+  std::string lower = name ? name : "unknown";
+  for (char& c : lower) c = char(std::tolower(static_cast<unsigned char>(c)));
+  return lower;
+}
+
 void select_blas_kernels() {
   // Looked up at run time, as the thread setters are: the BLAS behind LibTorch is chosen by
   // Debian's alternatives, and a single-architecture OpenBLAS has no dynamic start-up.
-  auto core_name = reinterpret_cast<CoreName>(dlsym(RTLD_DEFAULT, "openblas_get_corename"));
   auto quit = reinterpret_cast<DynamicStep>(dlsym(RTLD_DEFAULT, "gotoblas_dynamic_quit"));
   auto init = reinterpret_cast<DynamicStep>(dlsym(RTLD_DEFAULT, "gotoblas_dynamic_init"));
-  if (!core_name || !quit || !init) return;
+  if (!quit || !init) return;
   if (std::getenv("OPENBLAS_CORETYPE")) return;  // the user's choice stands
-  const char* current = core_name();
-  if (!current || strcasecmp(current, "prescott") != 0) return;
+  if (blas_kernels() != "prescott") return;
   const char* better = best_supported_core();
   if (!better) return;
   // OpenBLAS's start-up reads the variable; it is removed again so that nothing this process
@@ -43,15 +49,6 @@ void select_blas_kernels() {
   quit();
   init();
   unsetenv("OPENBLAS_CORETYPE");
-}
-
-std::string blas_kernels() {
-  auto core_name = reinterpret_cast<CoreName>(dlsym(RTLD_DEFAULT, "openblas_get_corename"));
-  if (!core_name) return "not OpenBLAS";
-  const char* name = core_name();
-  std::string lower = name ? name : "unknown";
-  for (char& c : lower) c = char(std::tolower(static_cast<unsigned char>(c)));
-  return lower;
 }
 
 }  // namespace gnn
