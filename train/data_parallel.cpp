@@ -1,6 +1,7 @@
 #include "train/data_parallel.h"
 
 #include <algorithm>
+#include <csignal>
 #include <cstdlib>
 #include <stdexcept>
 
@@ -87,6 +88,11 @@ struct DataParallel::Group {
 
 std::unique_ptr<DataParallel> DataParallel::connect(const LaunchEnvironment& launch,
                                                     std::chrono::milliseconds timeout) {
+  // Gloo writes to its sockets with writev and expects EPIPE when a peer has died; a C++
+  // process left at SIGPIPE's default dies of the signal instead, silently, before the
+  // collective can fail and name this rank (Python, and so torchrun's Python jobs, ignore
+  // SIGPIPE at start-up). Only ranks get here: a single process keeps the default.
+  std::signal(SIGPIPE, SIG_IGN);
   c10d::TCPStoreOptions o;
   o.port = std::uint16_t(launch.master_port);
   o.isServer = launch.rank == 0 && !launch.agent_store;
