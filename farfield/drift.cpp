@@ -28,6 +28,25 @@ double cube_root(double h) {
   return y;
 }
 
+// Manning's friction as a drag coefficient, tau / rho = (Cf / 2) |u| u: the square root of
+// Cf / 2 = g n^2 / h^(1/3), which the log law's factor and the shear velocity take.
+double root_half_drag(const FlowSample& s) {
+  return std::sqrt(kGravity * s.manning * s.manning / cube_root(s.depth));
+}
+
+// The surface velocity alone: what the advection's sub-steps take, two samples each. Without
+// the flow's direction and mixing coefficients (two divisions and a square root that only the
+// end of a step needs), a sub-step's chain of dependent operations is shorter.
+void surface_velocity(const FlowSample& s, const DriftSettings& settings, double& u, double& v) {
+  if (s.where != FlowWhere::water || s.depth <= 0) {
+    u = v = 0;
+    return;
+  }
+  const double factor = settings.log_law ? 1 + root_half_drag(s) / settings.kappa : 1.0;
+  u = factor * s.u;
+  v = factor * s.v;
+}
+
 bool is_water(const FlowSample& s, double min_depth) {
   return s.where == FlowWhere::water && s.depth >= min_depth;
 }
@@ -79,10 +98,9 @@ LocalDrift local_drift(const FlowSample& s, const DriftSettings& settings) {
   LocalDrift d;
   if (s.where != FlowWhere::water || s.depth <= 0) return d;
   const double speed = std::sqrt(s.u * s.u + s.v * s.v);
-  // Manning's friction as a drag coefficient: tau / rho = (Cf / 2) |u| u.
-  const double half_cf = kGravity * s.manning * s.manning / cube_root(s.depth);
-  const double shear = speed * std::sqrt(half_cf);
-  const double factor = settings.log_law ? 1 + std::sqrt(half_cf) / settings.kappa : 1.0;
+  const double root_half_cf = root_half_drag(s);
+  const double shear = speed * root_half_cf;
+  const double factor = settings.log_law ? 1 + root_half_cf / settings.kappa : 1.0;
   d.u = factor * s.u;
   d.v = factor * s.v;
   if (speed > 0) {
@@ -110,9 +128,10 @@ DriftResult drift_element(const SurfaceFlow& flow, const DriftSettings& settings
     r.where = here.where == FlowWhere::outside ? FlowWhere::outside : FlowWhere::bank;
     return r;
   }
-  LocalDrift here_drift = local_drift(here, settings);
+  double here_u, here_v;
+  surface_velocity(here, settings, here_u, here_v);
   // The advection in sub-steps of at most max_cells_per_substep cells at the starting speed.
-  const double u0 = here_drift.u + wind_u, v0 = here_drift.v + wind_v;
+  const double u0 = here_u + wind_u, v0 = here_v + wind_v;
   const int substeps = std::max(1, int(std::ceil(std::sqrt(u0 * u0 + v0 * v0) * dt /
                                                  (settings.max_cells_per_substep * grid_cell))));
   const double h = dt / substeps;
@@ -123,13 +142,13 @@ DriftResult drift_element(const SurfaceFlow& flow, const DriftSettings& settings
   };
   for (int k = 0; k < substeps; ++k) {
     const double tk = t + k * h;
-    const double ua = here_drift.u + wind_u, va = here_drift.v + wind_v;
+    const double ua = here_u + wind_u, va = here_v + wind_v;
     double ub = ua, vb = va;
     const FlowSample mid = flow.sample(x + 0.5 * h * ua, y + 0.5 * h * va, tk + 0.5 * h);
     if (is_water(mid, min_depth)) {
-      const LocalDrift m = local_drift(mid, settings);
-      ub = m.u + wind_u;
-      vb = m.v + wind_v;
+      surface_velocity(mid, settings, ub, vb);
+      ub += wind_u;
+      vb += wind_v;
     }
     double nx = x + h * ub, ny = y + h * vb;
     here = flow.sample(nx, ny, tk + h);
@@ -146,7 +165,7 @@ DriftResult drift_element(const SurfaceFlow& flow, const DriftSettings& settings
         here = flow.sample(x, y, tk + h);
       }
     }
-    here_drift = local_drift(here, settings);
+    surface_velocity(here, settings, here_u, here_v);
     x = r.x = r.wet_x = nx;
     y = r.y = r.wet_y = ny;
   }
@@ -154,7 +173,7 @@ DriftResult drift_element(const SurfaceFlow& flow, const DriftSettings& settings
   // where D is uniform), with the drift div(D) by central differences over half a cell.
   if (settings.mixing) {
     const double te = t + dt;
-    const LocalDrift& d = here_drift;
+    const LocalDrift d = local_drift(here, settings);
     const double delta = 0.5 * grid_cell;
     double xx_e, xy_e, yy_e, xx_w, xy_w, yy_w, xx_n, xy_n, yy_n, xx_s, xy_s, yy_s;
     diffusivity(flow, settings, x + delta, y, te, xx_e, xy_e, yy_e);
