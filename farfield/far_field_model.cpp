@@ -86,8 +86,7 @@ void FarFieldModel::step(double dt) {
   const WeatherNow weather = env.weather_at(t0 + 0.5 * dt);
   const Wind wind = env.wind_at(t0 + 0.5 * dt);
   const double min_thickness = setup_.oil.min_thickness(weather.water_temperature_c);
-  const std::vector<double> potentials =
-      evaporation_potentials(setup_.oil, weather.water_temperature_c);
+  const StepWeathering weathering = step_weathering(setup_.oil, weather);
   const SurfaceFlow& flow = *setup_.flow;
   const double cell = flow.resolution();
   const long n = long(elements_.size());
@@ -104,8 +103,7 @@ void FarFieldModel::step(double dt) {
     const FaySlick& slick = slicks_[size_t(el.slick[e])];
     const double share = el.slick_share[e];
     const double slick_diameter = 2 * std::sqrt(el.area[e] / share / kPi);
-    weather_element(setup_.oil, el, e, weather, potentials, setup_.weathering, slick_diameter,
-                    live);
+    weather_element(setup_.oil, el, e, weathering, setup_.weathering, slick_diameter, live);
     el.age[e] += dt;
     if (setup_.spreading) {
       const double most = el.released_mass[e] / setup_.oil.density / min_thickness;

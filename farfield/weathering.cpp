@@ -53,14 +53,20 @@ double oil_density(const OilRecord& oil, const Elements& el, size_t e) {
   return v > 0 ? el.oil_mass(e) / v : oil.density;
 }
 
-double emulsion_viscosity(const OilRecord& oil, const Elements& el, size_t e,
-                          double temperature_c) {
-  const double fresh = oil.viscosity_at(temperature_c);
+namespace {
+// The emulsion's kinematic viscosity (m^2/s) from the fresh oil's at the water's temperature.
+double emulsion_viscosity_from(double fresh, const Elements& el, size_t e) {
   const double evaporated =
       el.released_mass[e] > 0 ? el.evaporated_mass[e] / el.released_mass[e] : 0;
   const double c = std::clamp(1500 * std::sqrt(fresh), 1.0, 10.0);
   const double y = el.water_fraction[e] / 0.84;
   return fresh * std::exp(c * evaporated) * std::pow(1 + y / (1.187 - y), 2.49);
+}
+}  // namespace
+
+double emulsion_viscosity(const OilRecord& oil, const Elements& el, size_t e,
+                          double temperature_c) {
+  return emulsion_viscosity_from(oil.viscosity_at(temperature_c), el, e);
 }
 
 std::vector<double> evaporation_potentials(const OilRecord& oil, double temperature_c) {
@@ -73,13 +79,30 @@ std::vector<double> evaporation_potentials(const OilRecord& oil, double temperat
   return k;
 }
 
-void evaporate(const OilRecord& oil, Elements& el, size_t e, const WeatherNow& w,
-               const std::vector<double>& k, double slick_diameter, double dt) {
-  if (w.ice) return;
+StepWeathering step_weathering(const OilRecord& oil, const WeatherNow& w) {
+  StepWeathering s;
+  s.weather = w;
+  s.potentials = evaporation_potentials(oil, w.water_temperature_c);
+  s.mass_transfer = w.ice ? 0.0 : 0.0048 * std::pow(std::max(w.wind_speed, 1.0), 0.78);
+  double wind = w.ice ? 0.0 : w.wind_speed;
+  if (w.wave_height > 0) wind = std::max(wind, wind_for_wave_height(w.wave_height));
+  s.emulsion_rate = 6 * kEmulsionRate * wind * wind / kLargestDroplet;
+  const double h_rms = 0.707 * w.wave_height;
+  if (h_rms > 0) {
+    const double energy = 0.0034 * w.water_density * kGravity * h_rms * h_rms;
+    s.dispersion_rate = std::pow(energy, 0.57) * breaking_fraction(wind) * kEntrainedVolume;
+  }
+  s.fresh_viscosity = oil.viscosity_at(w.water_temperature_c);
+  return s;
+}
+
+void evaporate(const OilRecord& oil, Elements& el, size_t e, const StepWeathering& w,
+               double slick_diameter, double dt) {
+  if (w.weather.ice) return;
+  const std::vector<double>& k = w.potentials;
   const size_t base = e * size_t(el.cuts);
-  const double temperature = w.water_temperature_c + kZeroCelsius;
-  const double transfer = 0.0048 * std::pow(std::max(w.wind_speed, 1.0), 0.78) *
-                          std::pow(std::max(slick_diameter, 1.0), -1.0 / 9);
+  const double temperature = w.weather.water_temperature_c + kZeroCelsius;
+  const double transfer = w.mass_transfer * std::pow(std::max(slick_diameter, 1.0), -1.0 / 9);
   const double common =
       el.area[e] * (1 - el.water_fraction[e]) * transfer / (kGasConstant * temperature);
   // Per cut, k_i = Sc_i^(-2/3) P_i; the decay rate is common k_i / (sum_j m_j / MW_j).
@@ -104,7 +127,7 @@ void evaporate(const OilRecord& oil, Elements& el, size_t e, const WeatherNow& w
   el.evaporated_mass[e] += lost;
 }
 
-void emulsify(const OilRecord& oil, Elements& el, size_t e, const WeatherNow& w, double dt) {
+void emulsify(const OilRecord& oil, Elements& el, size_t e, const StepWeathering& w, double dt) {
   const double y_max = oil.max_water_fraction;
   if (!(y_max > 0)) return;
   if (el.emulsion_start[e] < 0) {
@@ -112,25 +135,18 @@ void emulsify(const OilRecord& oil, Elements& el, size_t e, const WeatherNow& w,
     if (evaporated < oil.emulsification_onset) return;
     el.emulsion_start[e] = el.age[e];
   }
-  double wind = w.ice ? 0.0 : w.wind_speed;
-  if (w.wave_height > 0) wind = std::max(wind, wind_for_wave_height(w.wave_height));
-  const double rate = 6 * kEmulsionRate * wind * wind / kLargestDroplet;
+  const double rate = w.emulsion_rate;
   const double s_max = 6 / kSmallestDroplet * y_max / (1 - y_max);
   double& s = el.droplet_area[e];
   s = s_max - (s_max - s) * std::exp(-rate * dt / s_max);
   el.water_fraction[e] = std::min(y_max, s * kLargestDroplet / (6 + s * kLargestDroplet));
 }
 
-void disperse(const OilRecord& oil, Elements& el, size_t e, const WeatherNow& w, double dt) {
-  const double h_rms = 0.707 * w.wave_height;
-  if (!(h_rms > 0)) return;
-  const double energy = 0.0034 * w.water_density * kGravity * h_rms * h_rms;
-  double wind = w.ice ? 0.0 : w.wind_speed;
-  wind = std::max(wind, wind_for_wave_height(w.wave_height));
-  const double nu = emulsion_viscosity(oil, el, e, w.water_temperature_c);
+void disperse(const OilRecord&, Elements& el, size_t e, const StepWeathering& w, double dt) {
+  if (!(w.dispersion_rate > 0)) return;
+  const double nu = emulsion_viscosity_from(w.fresh_viscosity, el, e);
   const double c_roy = 2400 * std::exp(-73.682 * std::sqrt(nu));
-  const double rate = c_roy * std::pow(energy, 0.57) * breaking_fraction(wind) * kEntrainedVolume *
-                      (1 - el.water_fraction[e]) * el.area[e];
+  const double rate = c_roy * w.dispersion_rate * (1 - el.water_fraction[e]) * el.area[e];
   const double mass = el.oil_mass(e);
   if (!(mass > 0)) return;
   const double fraction = std::min(1.0, rate * dt / mass);
@@ -145,10 +161,9 @@ void disperse(const OilRecord& oil, Elements& el, size_t e, const WeatherNow& w,
   el.dispersed_mass[e] += lost;
 }
 
-void weather_element(const OilRecord& oil, Elements& el, size_t e, const WeatherNow& w,
-                     const std::vector<double>& potentials, const WeatheringSwitches& on,
-                     double slick_diameter, double dt) {
-  if (on.evaporation) evaporate(oil, el, e, w, potentials, slick_diameter, dt);
+void weather_element(const OilRecord& oil, Elements& el, size_t e, const StepWeathering& w,
+                     const WeatheringSwitches& on, double slick_diameter, double dt) {
+  if (on.evaporation) evaporate(oil, el, e, w, slick_diameter, dt);
   if (on.emulsification) emulsify(oil, el, e, w, dt);
   if (on.dispersion) disperse(oil, el, e, w, dt);
 }

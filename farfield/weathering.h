@@ -53,16 +53,27 @@ double emulsion_viscosity(const OilRecord& oil, const Elements& el, size_t e, do
 // evaporation rate is proportional to, the same for every element at one moment.
 std::vector<double> evaporation_potentials(const OilRecord& oil, double temperature_c);
 
-// Evaporates element e for dt with its slick's diameter `slick_diameter` (m); `potentials` from
-// evaporation_potentials at w's temperature.
-void evaporate(const OilRecord& oil, Elements& el, size_t e, const WeatherNow& w,
-               const std::vector<double>& potentials, double slick_diameter, double dt);
-void emulsify(const OilRecord& oil, Elements& el, size_t e, const WeatherNow& w, double dt);
-void disperse(const OilRecord& oil, Elements& el, size_t e, const WeatherNow& w, double dt);
+// What one moment's weather makes the same for every element: the power laws of the wind and
+// the waves, the fresh oil's viscosity and the cuts' potentials, worked out once a step rather
+// than once per element.
+struct StepWeathering {
+  WeatherNow weather;
+  std::vector<double> potentials;  // evaporation_potentials at the water's temperature
+  double mass_transfer = 0;        // K = 0.0048 U^0.78 (m/s; 0 under ice)
+  double emulsion_rate = 0;        // k = 6 K0 U^2 / d_max (1/s per m^2/m^3 of droplet surface)
+  double dispersion_rate = 0;      // D_e^0.57 f_bw V (0 without waves): Q / (C_Roy (1 - Y) A)
+  double fresh_viscosity = 0;      // m^2/s at the water's temperature
+};
+StepWeathering step_weathering(const OilRecord& oil, const WeatherNow& w);
+
+// Evaporates element e for dt with its slick's diameter `slick_diameter` (m).
+void evaporate(const OilRecord& oil, Elements& el, size_t e, const StepWeathering& w,
+               double slick_diameter, double dt);
+void emulsify(const OilRecord& oil, Elements& el, size_t e, const StepWeathering& w, double dt);
+void disperse(const OilRecord& oil, Elements& el, size_t e, const StepWeathering& w, double dt);
 
 // All three, as switched.
-void weather_element(const OilRecord& oil, Elements& el, size_t e, const WeatherNow& w,
-                     const std::vector<double>& potentials, const WeatheringSwitches& on,
-                     double slick_diameter, double dt);
+void weather_element(const OilRecord& oil, Elements& el, size_t e, const StepWeathering& w,
+                     const WeatheringSwitches& on, double slick_diameter, double dt);
 
 }  // namespace farfield

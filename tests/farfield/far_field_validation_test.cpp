@@ -166,7 +166,7 @@ TEST(FarFieldValidation, EachCutEvaporatesAsItsExponential) {
   };
   const double dt = 60;
   for (int step = 1; step <= 360; ++step) {
-    evaporate(oil, el, 0, w, evaporation_potentials(oil, 15), diameter, dt);
+    evaporate(oil, el, 0, step_weathering(oil, w), diameter, dt);
     if (step % 60) continue;
     const double t = step * dt;
     double lo = 0, hi = 1;
