@@ -20,9 +20,13 @@ Centreline::Centreline(std::vector<std::pair<double, double>> points) : points_(
   }
 }
 
+// The segments are compared by squared distance and only the nearest is rooted: glibc's hypot,
+// careful of overflow, took 40 % of a forecast's time on a real reach, where every step
+// locates the elements that meet a bank.
 RiverPosition Centreline::locate(double x, double y) const {
   RiverPosition best;
-  double best_distance = std::numeric_limits<double>::infinity();
+  double best_squared = std::numeric_limits<double>::infinity();
+  double best_cross = 0;
   const size_t segments = points_.size() - 1;
   for (size_t k = 0; k < segments; ++k) {
     const double ax = points_[k].first, ay = points_[k].second;
@@ -34,15 +38,16 @@ RiverPosition Centreline::locate(double x, double y) const {
     if (k > 0) s = std::max(s, 0.0);
     if (k + 1 < segments) s = std::min(s, 1.0);
     const double px = ax + s * dx, py = ay + s * dy;
-    const double distance = std::hypot(x - px, y - py);
-    if (distance < best_distance) {
-      best_distance = distance;
+    const double squared = (x - px) * (x - px) + (y - py) * (y - py);
+    if (squared < best_squared) {
+      best_squared = squared;
       best.along_m = cumulative_[k] + s * len;
       // The cross product of the direction and the point: positive to the left.
-      const double cross = dx * (y - ay) - dy * (x - ax);
-      best.offset_m = cross >= 0 ? distance : -distance;
+      best_cross = dx * (y - ay) - dy * (x - ax);
     }
   }
+  const double distance = std::sqrt(best_squared);
+  best.offset_m = best_cross >= 0 ? distance : -distance;
   return best;
 }
 
