@@ -26,8 +26,22 @@ class Centreline {
   const std::vector<std::pair<double, double>>& points() const { return points_; }
 
  private:
+  // The squared distance from (x, y) to segment k (the end segments extended beyond the line's
+  // ends), and the projection's parameter s along it.
+  double squared_distance(size_t k, double x, double y, double& s) const;
+  // The nearest of `candidates` (ascending; null: every segment), the first of equals.
+  RiverPosition nearest(const size_t* candidates, size_t count, double x, double y) const;
+  void build_index();
+
   std::vector<std::pair<double, double>> points_;
   std::vector<double> cumulative_;  // distance to each point
+
+  // A grid over the line's surroundings listing, per cell, the segments that can be the nearest
+  // to some point of the cell, ascending: locate measures those instead of every segment.
+  double grid_x0_ = 0, grid_y0_ = 0, grid_cell_ = 1;
+  long grid_nx_ = 0, grid_ny_ = 0;
+  std::vector<size_t> cell_start_;  // cell c's candidates: cell_segments_[start[c], start[c+1])
+  std::vector<size_t> cell_segments_;
 };
 
 }  // namespace farfield
