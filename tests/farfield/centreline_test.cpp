@@ -77,8 +77,8 @@ TEST(Centreline, LocateEqualsMeasuringEverySegment) {
     }
     far_outside += std::fabs(want.offset_m) > 2500;
   }
-  EXPECT_GT(far_outside,
-            100);  // the queries reach beyond the grid, where every segment is measured
+  // The queries reach beyond the grid, where every segment is measured.
+  EXPECT_GT(far_outside, 100);
 }
 
 TEST(Centreline, AStraightLineGivesDistanceAlongAndSignedOffset) {
