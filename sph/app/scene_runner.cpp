@@ -66,10 +66,13 @@ nlohmann::json run_summary(const Simulation& sim, double wall_s, double iteratio
                               {"other", t.other()}}}};
   for (const auto& [part, seconds] : t.solver_parts) summary["time_split"][part] = seconds;
   // A river's particle budget: entered at the inflow, retired at the outflow, and of those
-  // retired, fallen off an edge of the terrain (splashes over a bank).
+  // retired, fallen off an edge of the terrain (splashes over a bank); and the oil they carried
+  // out of the reach.
   if (const RiverFlow* flow = sim.flow())
-    summary["flow"] = {
-        {"emitted", flow->emitted()}, {"retired", flow->retired()}, {"fallen", flow->fallen()}};
+    summary["flow"] = {{"emitted", flow->emitted()},
+                       {"retired", flow->retired()},
+                       {"fallen", flow->fallen()},
+                       {"oil_left_m3", flow->oil_left_volume()}};
   return summary;
 }
 

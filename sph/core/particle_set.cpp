@@ -63,6 +63,13 @@ void FluidParticles::activate(Index slot, const Vec3& x, const Vec3& v) {
   ++active;
 }
 
+void FluidParticles::set_mix(Index slot, const PhaseMix& mix) {
+  oil_fraction[slot] = mix.oil_fraction;
+  rest_density[slot] = mix.rest_density;
+  viscosity[slot] = mix.viscosity;
+  type[slot] = mix.type;
+}
+
 void FluidParticles::deactivate(Index slot) {
   assert(slot < active);
   --active;

@@ -62,6 +62,9 @@ struct FluidParticles {
   Index find_inactive(Index id) const;
   // Moves the inactive particle at `slot` to the end of the active range, with a new state.
   void activate(Index slot, const Vec3& x, const Vec3& v);
+  // Sets the phase composition of the particle at `slot` (fraction, rest density, viscosity and
+  // the dominant phase's type, together).
+  void set_mix(Index slot, const PhaseMix& mix);
   // Retires the active particle at `slot`: it moves to the first inactive slot (the last active
   // one takes its place) and keeps its state and identity.
   void deactivate(Index slot);

@@ -57,6 +57,7 @@ nlohmann::json RiverFlow::state() const {
           {"emitted", emitted_},
           {"retired", retired_},
           {"fallen", fallen_},
+          {"oil_left_volume", oil_left_volume_},
           {"pool_ids", ids},
           {"pool_free_from", free_from}};
 }
@@ -66,6 +67,8 @@ void RiverFlow::restore(const nlohmann::json& s) {
   emitted_ = s.at("emitted");
   retired_ = s.at("retired");
   fallen_ = s.at("fallen");
+  // States saved before the oil that left was counted start its count at zero.
+  oil_left_volume_ = s.value("oil_left_volume", 0.0);
   const auto ids = s.at("pool_ids").get<std::vector<Index>>();
   const auto free_from = s.at("pool_free_from").get<std::vector<double>>();
   pool_.clear();
@@ -81,6 +84,7 @@ void RiverFlow::restore_recorded(double t, Real newest_x, const std::vector<Inde
     due = t - double(newest_x - config_.inflow_x) / double(config_.speed);
   emitted_layers_ = std::max(0L, std::lround(due / interval_));
   emitted_ = retired_ = fallen_ = 0;
+  oil_left_volume_ = 0;
   pool_.clear();
   for (Index id : pool) pool_.push_back({id, -std::numeric_limits<double>::infinity()});
 }
@@ -117,6 +121,8 @@ void RiverFlow::emit(FluidParticles& fluid, double t, bool skip_when_empty) {
       const Index slot = fluid.find_inactive(pool_.front().id);
       pool_.pop_front();
       fluid.activate(slot, p + Vec3(travelled, 0, 0), velocity);
+      // Returned water may have carried a trace of oil out; it enters as the river's water.
+      fluid.set_mix(fluid.active_count() - 1, water_);
       ++emitted_;
     }
     ++emitted_layers_;
@@ -154,6 +160,27 @@ void RiverFlow::hold_buffers(FluidParticles& fluid) const {
   }
 }
 
+void RiverFlow::hold_buffers_over_frame(FluidParticles& fluid, const std::vector<Vec3>& previous,
+                                        Real dt) const {
+  const Vec3 velocity(config_.speed, 0, 0);
+  const Real inflow_end = config_.inflow_x + config_.buffer;
+  const Real outflow_start = config_.outflow_x - config_.buffer;
+  for (Index i = 0; i < fluid.active_count(); ++i) {
+    const Vec3& from = previous[i];
+    Vec3& x = fluid.position[i];
+    if (x.x() < inflow_end) {
+      fluid.velocity[i] = velocity;
+      x = from + velocity * dt;
+    } else if (x.x() > outflow_start) {
+      // The share of the frame spent before the buffer, at the predicted pace along x.
+      const Real before =
+          from.x() < outflow_start ? (outflow_start - from.x()) / (x.x() - from.x()) : Real(0);
+      x.x() = std::max(from.x(), outflow_start) + (1 - before) * config_.speed * dt;
+      fluid.velocity[i].x() = config_.speed;
+    }
+  }
+}
+
 void RiverFlow::retire_leaving(FluidParticles& fluid, double t) {
   retiring_.clear();
   for (Index i = 0; i < fluid.active_count(); ++i) {
@@ -166,13 +193,17 @@ void RiverFlow::retire_leaving(FluidParticles& fluid, double t) {
   // From the highest slot down: deactivate() moves the last active particle into the freed slot,
   // and that one has been looked at already.
   for (auto it = retiring_.rbegin(); it != retiring_.rend(); ++it) {
-    const Index slot = *it;
-    const Index id = fluid.id[slot];
-    const bool pure_water = fluid.oil_fraction[slot] == 0;
-    fluid.deactivate(slot);
+    retire(fluid, *it, t);
     ++retired_;
-    if (pure_water) pool_.push_back({id, t + cooldown_});
   }
+}
+
+void RiverFlow::retire(FluidParticles& fluid, Index slot, double t) {
+  const Index id = fluid.id[slot];
+  const Real fraction = fluid.oil_fraction[slot];
+  oil_left_volume_ += double(fraction) * double(fluid.rest_volume[slot]);
+  fluid.deactivate(slot);
+  if (!is_oil(fraction)) pool_.push_back({id, t + cooldown_});
 }
 
 }  // namespace sph

@@ -7,10 +7,13 @@
 // outflow_x are retired (active = 0); over the `buffer` upstream of that plane their velocity
 // along x is held at `speed` too, so the reach drains as fast as it fills. Particles that fall
 // two spacings below the lowest ground (over a bank and off an edge of the terrain) have left
-// the reach as well and are retired the same way. Retired water particles
-// return to the inflow's pool after two frames (so a recorded trajectory never shows a particle
-// jump from the outflow to the inflow between two frames in which it is active); oil stays retired,
-// so a particle never changes phase. The pool starts with `reserve_s` seconds of inflow.
+// the reach as well and are retired the same way. Retired water particles (by the one oil rule,
+// is_oil: a trace of oil the mixture gave a water particle does not keep it out) return to the
+// inflow's pool after two frames (so a recorded trajectory never shows a particle jump from the
+// outflow to the inflow between two frames in which it is active) and re-enter as pure water; the
+// oil they carried has left the reach and is counted so (oil_left_volume), so the oil budget
+// closes. Oil stays retired, so a particle never changes phase. The pool starts with `reserve_s`
+// seconds of inflow.
 
 #include <deque>
 #include <nlohmann/json.hpp>
@@ -41,10 +44,22 @@ class RiverFlow {
   // the inflow speed over the step; holds the buffers' velocity and retires the particles past
   // the outflow plane.
   void after_step(FluidParticles& fluid, double t, Real dt);
-  // The two halves of after_step, for frames computed outside the solver (the held velocity
-  // moves a particle before it is judged): the buffers' held velocity, then the retirement.
+  // The two halves of after_step: the buffers' held velocity, then the retirement.
   void hold_buffers(FluidParticles& fluid) const;
   void retire_leaving(FluidParticles& fluid, double t);
+  // For a frame computed outside the solver, which moved every particle from `previous` to its
+  // position over dt: the buffers' hold applied as a solver's steps would have applied it. Water
+  // in the inflow buffer at the frame's end moved at the inflow velocity all frame; water in the
+  // outflow buffer moved along x at the inflow speed for the part of the frame it spent there,
+  // and at its predicted pace before it reached the buffer (held for the whole frame instead, the
+  // water that entered the buffer during the frame fell behind the solver's, which speeds up
+  // towards the outflow, and a learned reach kept about a layer more than the recording).
+  void hold_buffers_over_frame(FluidParticles& fluid, const std::vector<Vec3>& previous,
+                               Real dt) const;
+  // Retires the active particle at `slot`, which has left the reach at time t (retire_leaving's
+  // rule for one particle; a forecast's particle outside the domain): water returns to the pool,
+  // the oil it carries counts as gone. Not counted in retired().
+  void retire(FluidParticles& fluid, Index slot, double t);
 
   const std::vector<Vec3>& layer() const { return layer_; }
   // The inflow plane's cross-section of water below `water_level`, a particle per lattice site.
@@ -54,7 +69,10 @@ class RiverFlow {
   long fallen() const { return fallen_; }    // of the retired: those that left over a terrain edge
   long emitted() const { return emitted_; }  // particles activated at the inflow so far
   long retired() const { return retired_; }  // particles retired at the outflow so far
-  Real inflow_rate() const;                  // m^3/s
+  // Oil volume (m^3, fraction x rest volume) that has left the reach in retired particles, water
+  // with a trace of oil included: with the oil on the water it makes up the oil released.
+  double oil_left_volume() const { return oil_left_volume_; }
+  Real inflow_rate() const;  // m^3/s
   // Progress and reserve, for saved simulation states.
   nlohmann::json state() const;
   void restore(const nlohmann::json& state);
@@ -80,6 +98,7 @@ class RiverFlow {
   long emitted_layers_ = 0;
   long emitted_ = 0, retired_ = 0, fallen_ = 0;
   long skipped_layers_ = 0;
+  double oil_left_volume_ = 0;
   Real floor_z_;  // below this a particle has left the reach over an edge of the terrain
   std::deque<PoolEntry> pool_;
   std::vector<Index> retiring_;

@@ -30,7 +30,7 @@ ExternalFrameStats Simulation::apply_external_frame(double t_end, const std::vec
                                 " s is not after the simulation's time " + std::to_string(time_));
   const MaterialsConfig& m = scene_.materials;
   // By slot: nothing moves between slots until the retirement.
-  std::vector<Vec3> previous(n), moved(n);
+  std::vector<Vec3> previous(n);
   for (Index i = 0; i < n; ++i) {
     if (!position[i].allFinite())
       throw SimulationError("frame " + std::to_string(frame) + " (t = " + std::to_string(t_end) +
@@ -38,31 +38,29 @@ ExternalFrameStats Simulation::apply_external_frame(double t_end, const std::vec
                             " was given a non-finite position");
     previous[i] = fluid_.position[i];
     fluid_.velocity[i] = (position[i] - fluid_.position[i]) / Real(dt);
-    moved[i] = fluid_.velocity[i];
     fluid_.position[i] = position[i];
-    const PhaseMix mix = mix_phases(std::clamp(oil_fraction[i], Real(0), Real(1)), m.water.density,
-                                    m.water.viscosity, m.oil.density, m.oil.viscosity);
-    fluid_.oil_fraction[i] = mix.oil_fraction;
-    fluid_.rest_density[i] = mix.rest_density;
-    fluid_.viscosity[i] = mix.viscosity;
-    fluid_.type[i] = mix.type;
+    fluid_.set_mix(i, mix_phases(std::clamp(oil_fraction[i], Real(0), Real(1)), m.water.density,
+                                 m.water.viscosity, m.oil.density, m.oil.viscosity));
   }
   time_ = t_end;
   ExternalFrameStats stats;
   if (flow_) {
-    // A velocity the flow holds moves its particle, as the solver's next step would have; then
-    // what has left the reach retires.
-    flow_->hold_buffers(fluid_);
-    for (Index i = 0; i < n; ++i)
-      if (fluid_.velocity[i] != moved[i])
-        fluid_.position[i] = previous[i] + fluid_.velocity[i] * Real(dt);
+    // A velocity the flow holds moves its particle, as the solver's steps would have; then what
+    // has left the reach retires.
+    flow_->hold_buffers_over_frame(fluid_, previous, Real(dt));
     const long before = long(fluid_.active_count());
     flow_->retire_leaving(fluid_, time_);
     stats.retired = before - long(fluid_.active_count());
   }
+  // Outside the domain a particle has left the reach too: in a river it retires as at the
+  // outflow (water back to the inflow's pool, its oil counted as gone), so a forecast that loses
+  // particles through the bed or the lid keeps its water.
   for (Index i = fluid_.active_count(); i-- > 0;)
     if (!domain_.contains(fluid_.position[i])) {
-      fluid_.deactivate(i);
+      if (flow_)
+        flow_->retire(fluid_, i, time_);
+      else
+        fluid_.deactivate(i);
       ++stats.left_domain;
     }
   return stats;
@@ -94,12 +92,8 @@ void Simulation::restore_recorded_frame(const RecordedFrame& frame, double frame
     fluid_.acceleration[i].setZero();
     fluid_.density[i] = 1;
     fluid_.pressure[i] = 0;
-    const PhaseMix mix = mix_phases(frame.oil_fraction[id], m.water.density, m.water.viscosity,
-                                    m.oil.density, m.oil.viscosity);
-    fluid_.oil_fraction[i] = mix.oil_fraction;
-    fluid_.rest_density[i] = mix.rest_density;
-    fluid_.viscosity[i] = mix.viscosity;
-    fluid_.type[i] = mix.type;
+    fluid_.set_mix(i, mix_phases(frame.oil_fraction[id], m.water.density, m.water.viscosity,
+                                 m.oil.density, m.oil.viscosity));
   }
   time_ = frame.time;
   // An emitter has released every layer due a frame ago (its steps began by then) and every
@@ -114,7 +108,8 @@ void Simulation::restore_recorded_frame(const RecordedFrame& frame, double frame
   }
   if (!flow_) return;
   // The inflow's newest water is the most upstream particle held in its buffer; the pool is the
-  // inactive pure water that no emitter still holds back.
+  // inactive water (by the oil rule: a retired trace of oil returns) that no emitter still holds
+  // back.
   Real newest_x = std::numeric_limits<Real>::quiet_NaN();
   for (Index id = 0; id < n; ++id)
     if (frame.active[id] && frame.position[id].x() < flow_->buffer_end() &&
@@ -122,7 +117,7 @@ void Simulation::restore_recorded_frame(const RecordedFrame& frame, double frame
       newest_x = frame.position[id].x();
   std::vector<Index> pool;
   for (Index id = 0; id < n; ++id) {
-    if (frame.active[id] || frame.oil_fraction[id] != 0) continue;
+    if (frame.active[id] || is_oil(frame.oil_fraction[id])) continue;
     bool held_back = false;
     for (size_t k = 0; k < emitters_.size(); ++k) {
       const long layer = emitters_[k].layer_of(id);

@@ -96,7 +96,7 @@ class Simulation : private SolverHost {
   // Continues from a recorded frame of this scene: every particle's state and activity, the
   // clock, and the sources' progress (an emitter has released every layer due a frame before the
   // recorded time and every layer holding an active particle; the inflow's last layer is found
-  // from where its water is, the pool holds the inactive pure water). Throws
+  // from where its water is, the pool holds the inactive water, by the oil rule). Throws
   // std::invalid_argument when the frame's particle count differs from this scene's.
   void restore_recorded_frame(const RecordedFrame& frame, double frame_dt);
 

@@ -266,13 +266,9 @@ void MixtureModel::transport(FluidParticles& fluid, const ParticleNeighbourhood&
   }
   absorb_traces(fluid, nb);
   const auto update_mixture = [&](Index i) {
-    const PhaseMix mix =
-        mix_phases(fluid.oil_fraction[i], materials_.water.density, materials_.water.viscosity,
-                   materials_.oil.density, materials_.oil.viscosity);
-    fluid.oil_fraction[i] = mix.oil_fraction;
-    fluid.rest_density[i] = mix.rest_density;
-    fluid.viscosity[i] = mix.viscosity;
-    fluid.type[i] = mix.type;
+    fluid.set_mix(
+        i, mix_phases(fluid.oil_fraction[i], materials_.water.density, materials_.water.viscosity,
+                      materials_.oil.density, materials_.oil.viscosity));
   };
   // Every particle whose fraction changed is on the interface, a trace's recipient included: it
   // neighbours a mixed particle, so its composition differs from a neighbour's or is mixed.

@@ -180,5 +180,93 @@ TEST(RiverFlow, AForecastSkipsTheLayersAnEmptyPoolCannotFill) {
   EXPECT_THROW(flow.emit(fluid, 7.5 * interval), SimulationError);
 }
 
+// Water is water by the one oil rule: a particle that leaves with a trace of oil (a fraction under
+// one half, which the mixture model or a learned update gave it) returns to the pool and re-enters
+// as the river's pure water, and the oil it carried counts as oil that left the reach, as does
+// an oil particle's, which never returns.
+TEST(RiverFlow, WaterWithATraceOfOilReturnsCleanAndItsOilIsCounted) {
+  const Terrain t = generate_river(straight_river());
+  FlowConfig config = flow_config();
+  config.reserve_s = Real(0.07);  // two layers
+  const Real volume = Real(1.25e-4);
+  RiverFlow flow(config, t, 0, kSpacing, volume, water(), kFrameDt);
+  FluidParticles fluid;
+  flow.allocate(fluid);
+  const Index layer = Index(flow.layer().size());
+  const double interval = double(kSpacing) / double(config.speed);
+  flow.emit(fluid, 2 * interval);
+  ASSERT_EQ(fluid.active_count(), 2 * layer);  // the whole reserve is out
+  const PhaseMix trace = mix_phases(Real(0.3), 1000, Real(0.001), 940, Real(0.004));
+  const PhaseMix oil = mix_phases(Real(0.5), 1000, Real(0.001), 940, Real(0.004));
+  // Every particle leaves: one with a trace, one oil (at the threshold), the rest clean water.
+  for (Index i = 0; i < fluid.active_count(); ++i) fluid.position[i].x() = 1.6f;
+  // The last slots: they retire first, so the trace is at the head of the pool.
+  const Index last = fluid.active_count() - 1;
+  fluid.set_mix(last, trace);
+  fluid.set_mix(last - 1, oil);
+  const Index trace_id = fluid.id[last], oil_id = fluid.id[last - 1];
+  const double t_leave = 2 * interval;
+  flow.after_step(fluid, t_leave, 0);
+  ASSERT_EQ(fluid.active_count(), 0u);
+  // Fractions and volumes are stored in single precision: 1e-6 relative.
+  EXPECT_NEAR(flow.oil_left_volume(), (0.3 + 0.5) * double(volume), 1e-6 * double(volume));
+  // After the cooldown every layer but the oil particle's returns, the trace's clean.
+  const double t_back = t_leave + 2 * kFrameDt + 1e-9;
+  flow.emit(fluid, t_back, /*skip_when_empty=*/true);
+  bool trace_back = false;
+  for (Index i = 0; i < fluid.active_count(); ++i) {
+    EXPECT_NE(fluid.id[i], oil_id);
+    EXPECT_EQ(fluid.oil_fraction[i], 0) << "particle " << fluid.id[i];
+    EXPECT_EQ(fluid.rest_density[i], water().rest_density);
+    EXPECT_EQ(fluid.viscosity[i], water().viscosity);
+    EXPECT_EQ(fluid.type[i], ParticleType::kWater);
+    trace_back = trace_back || fluid.id[i] == trace_id;
+  }
+  EXPECT_TRUE(trace_back) << "the water with a trace of oil did not return";
+  // One layer short of the reserve (the oil particle's place is empty), so one more layer skipped.
+  EXPECT_EQ(fluid.active_count(), layer);
+  // A saved state keeps the count.
+  RiverFlow restored(config, t, 0, kSpacing, volume, water(), kFrameDt);
+  restored.restore(flow.state());
+  EXPECT_EQ(restored.oil_left_volume(), flow.oil_left_volume());
+}
+
+// A frame computed outside the solver (a learned one, 0.2 s) moved particles from `previous` to
+// their predicted positions; the buffers' hold is applied as the solver's steps apply it: water
+// that entered the outflow buffer during the frame moved at its predicted pace until it got there
+// and at the inflow speed after, water in the buffer all frame at the inflow speed, water that
+// ends the frame in the inflow buffer at the inflow velocity; elsewhere the prediction stands.
+TEST(RiverFlow, AnOutsideFrameHoldsTheBuffersForTheTimeSpentInThem) {
+  const Terrain t = generate_river(straight_river());
+  FlowConfig config = flow_config();
+  config.buffer = Real(0.1);  // the outflow buffer starts at 1.4 m, the inflow's ends at 0.125 m
+  RiverFlow flow(config, t, 0, kSpacing, Real(1.25e-4), water(), kFrameDt);
+  FluidParticles fluid;
+  const std::vector<Vec3> previous = {Vec3(1.2f, 0.1f, -0.1f), Vec3(1.45f, 0, -0.1f),
+                                      Vec3(0.8f, 0, -0.1f), Vec3(0.03f, 0, -0.1f)};
+  const std::vector<Vec3> predicted = {Vec3(1.6f, 0.12f, -0.12f), Vec3(1.9f, 0.05f, -0.1f),
+                                       Vec3(1.0f, 0.02f, -0.1f), Vec3(0.1f, 0.03f, -0.08f)};
+  const Real dt = Real(0.2);
+  for (size_t i = 0; i < previous.size(); ++i)
+    fluid.add(predicted[i], (predicted[i] - previous[i]) / dt, Real(1.25e-4), water());
+  flow.hold_buffers_over_frame(fluid, previous, dt);
+  // Half the frame to reach the buffer at 2 m/s, then 0.1 s at 1.5 m/s; across and up as
+  // predicted.
+  EXPECT_NEAR(fluid.position[0].x(), 1.4 + 0.5 * 1.5 * 0.2, 1e-6);
+  EXPECT_FLOAT_EQ(fluid.position[0].y(), 0.12f);
+  EXPECT_FLOAT_EQ(fluid.position[0].z(), -0.12f);
+  EXPECT_FLOAT_EQ(fluid.velocity[0].x(), 1.5f);
+  // In the buffer all frame: 0.3 m along x.
+  EXPECT_NEAR(fluid.position[1].x(), 1.45 + 1.5 * 0.2, 1e-6);
+  EXPECT_FLOAT_EQ(fluid.position[1].y(), 0.05f);
+  // Between the buffers: the prediction.
+  EXPECT_EQ(fluid.position[2], predicted[2]);
+  // In the inflow buffer: the inflow velocity, across and up included.
+  EXPECT_NEAR(fluid.position[3].x(), 0.03 + 1.5 * 0.2, 1e-6);
+  EXPECT_FLOAT_EQ(fluid.position[3].y(), 0.0f);
+  EXPECT_FLOAT_EQ(fluid.position[3].z(), -0.1f);
+  EXPECT_EQ(fluid.velocity[3], Vec3(1.5f, 0, 0));
+}
+
 }  // namespace
 }  // namespace sph
