@@ -43,7 +43,7 @@ constexpr int64_t kModelOutputs = 4;
 struct ModelOutput {
   torch::Tensor acceleration;  // [n, 3] normalised (only fluid rows are used)
   // [n] normalised change of the oil fraction over the frame (only fluid rows are used); the
-  // simulator turns it into a conserving update (LearnedSimulator::next_state).
+  // simulator turns it into a local, conserving update (local_fraction_update).
   torch::Tensor oil_fraction_change;
   std::vector<torch::Tensor> node_latents;  // per processor layer [n, L]; empty unless asked
   std::vector<torch::Tensor> edge_latents;  // per processor layer [E, L]; empty unless asked

@@ -98,9 +98,8 @@ GraphInput LearnedSimulator::encode(const FrameNodes& f) const {
   return device.is_cpu() ? g : to_device(g, device);
 }
 
-NormalisedPrediction LearnedSimulator::predict(const FrameNodes& nodes) {
-  const int64_t fluid_count = nodes.history.size(0);
-  const ModelOutput out = model_->forward(encode(nodes), ForwardOptions{});
+NormalisedPrediction LearnedSimulator::predict(const GraphInput& graph, int64_t fluid_count) {
+  const ModelOutput out = model_->forward(graph, ForwardOptions{});
   return {out.acceleration.slice(0, 0, fluid_count).to(torch::kCPU),
           out.oil_fraction_change.slice(0, 0, fluid_count).to(torch::kCPU)};
 }
@@ -123,33 +122,49 @@ torch::Tensor LearnedSimulator::denormalise_fraction_change(const torch::Tensor&
 
 NextState LearnedSimulator::next_state(const FrameNodes& nodes) {
   torch::NoGradGuard no_grad;
-  const NormalisedPrediction p = predict(nodes);
+  const int64_t fluid_count = nodes.history.size(0);
+  const GraphInput graph = encode(nodes);
+  const NormalisedPrediction p = predict(graph, fluid_count);
   auto acceleration = denormalise_acceleration(p.acceleration);
   auto last = nodes.history.select(1, kWindow - 1);
   auto velocity = last - nodes.history.select(1, kWindow - 2) + acceleration;
+  // Oil moves along the graph's fluid-fluid pairs: within the connectivity radius.
+  const auto edges = graph.edge_index.to(torch::kCPU);
+  const auto fluid_pairs = edges.index(
+      {torch::indexing::Slice(), (edges[0] < fluid_count).logical_and(edges[1] < fluid_count)});
   return {last + velocity,
-          conserving_fraction_update(nodes.oil_fraction,
-                                     denormalise_fraction_change(p.oil_fraction_change))};
+          local_fraction_update(nodes.oil_fraction,
+                                denormalise_fraction_change(p.oil_fraction_change), fluid_pairs)};
 }
 
-torch::Tensor conserving_fraction_update(const torch::Tensor& fraction,
-                                         const torch::Tensor& change) {
-  if (fraction.numel() == 0) return fraction.clone();
+torch::Tensor local_fraction_update(const torch::Tensor& fraction, const torch::Tensor& change,
+                                    const torch::Tensor& pairs) {
+  check_tensor("local_fraction_update", "fraction", fraction, {-1}, torch::kFloat32, torch::kCPU,
+               /*contiguous=*/false);
+  const int64_t n = fraction.size(0);
+  check_tensor("local_fraction_update", "change", change, {n}, torch::kFloat32, torch::kCPU,
+               /*contiguous=*/false);
+  check_tensor("local_fraction_update", "pairs", pairs, {2, -1}, torch::kInt64, torch::kCPU,
+               /*contiguous=*/false);
   const auto old = fraction.to(torch::kFloat64);
   const auto delta = change.to(torch::kFloat64);
-  auto updated = (old + (delta - delta.mean())).clamp(0, 1);
-  const double target = old.sum().item<double>();
-  // Each pass hands the clipped remainder to the particles with room in its direction; a pass
-  // either places all of it or fills some more particles up, so few passes are needed.
-  for (int pass = 0; pass < 64; ++pass) {
-    const double remainder = target - updated.sum().item<double>();
-    if (std::abs(remainder) <= 1e-12 * std::max(1.0, target)) break;
-    const auto room = remainder > 0 ? updated < 1 : updated > 0;
-    const int64_t takers = room.sum().item<int64_t>();
-    if (takers == 0) break;  // all 0 or all 1: nothing left to move
-    updated = torch::where(room, updated + remainder / double(takers), updated).clamp(0, 1);
-  }
-  return updated.to(torch::kFloat32);
+  // What each particle asks to gain and offers to lose, within what it can take and has.
+  const auto gain = torch::minimum(delta.clamp_min(0), 1 - old);
+  const auto loss = torch::minimum((-delta).clamp_min(0), old);
+  const auto distinct = pairs[0] != pairs[1];
+  const auto sender = pairs[0].index({distinct}), receiver = pairs[1].index({distinct});
+  const auto offered = loss.index_select(0, sender), asked = gain.index_select(0, receiver);
+  // Offers around each receiver and asks around each sender.
+  const auto offered_near = torch::zeros({n}, torch::kFloat64).index_add_(0, receiver, offered);
+  const auto asked_near = torch::zeros({n}, torch::kFloat64).index_add_(0, sender, asked);
+  const auto scale =
+      torch::maximum(offered_near.index_select(0, receiver), asked_near.index_select(0, sender));
+  const auto flux =
+      torch::where(scale > 0, asked * offered / scale.clamp_min(1e-300), torch::zeros_like(scale));
+  auto updated = old.clone();
+  updated.index_add_(0, receiver, flux).index_add_(0, sender, -flux);
+  // Only rounding can take a fraction past its bounds here.
+  return updated.clamp(0, 1).to(torch::kFloat32);
 }
 
 }  // namespace gnn

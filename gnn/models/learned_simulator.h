@@ -3,8 +3,8 @@
 // statistics, the domain bounds and the input pipeline of docs/models.md. It turns a window of
 // positions and the particles' oil fractions into a graph (node and edge features), the model's
 // normalised output into an acceleration and a change of the oil fraction, advances positions by
-// semi-implicit Euler in frame units (v' = v + a, x' = x + v') and the oil fractions by an
-// update that keeps the oil volume (conserving_fraction_update).
+// semi-implicit Euler in frame units (v' = v + a, x' = x + v') and the oil fractions by a local
+// update that keeps the oil volume (local_fraction_update).
 
 #include <torch/torch.h>
 
@@ -38,12 +38,18 @@ struct NormalisedPrediction {
   torch::Tensor oil_fraction_change;  // [n]
 };
 
-// New oil fractions [n] from the old ones [n] and a predicted change [n]: the change less its
-// mean, clipped to [0, 1], with what the clipping took or added spread over the particles that
-// still have room, so the sum (the oil volume, every particle having the same rest volume) is
-// what it was to float precision.
-torch::Tensor conserving_fraction_update(const torch::Tensor& fraction,
-                                         const torch::Tensor& change);
+// New oil fractions [n] from the old ones [n] and a predicted change [n], moving oil only along
+// `pairs` [2, E] int64 (fluid particles within the graph radius of each other, both directions
+// of a pair listed, as the radius graph lists them; self pairs ignored). As MTDF-SPH's mixture
+// model does, oil flows between neighbours: a particle asking to gain takes from its neighbours
+// that offer to lose, each pair's flux the product of the gain asked and the loss offered over
+// the larger of what the receiver's neighbours offer and the sender's neighbours ask, so no
+// particle gains more than it asked (nor beyond 1) or loses more than it offered (nor below 0).
+// The sum (the oil volume, every particle having the same rest volume) is what it was to double
+// precision, and a particle with no oil within its radius gains none: no traces far from the
+// slick (a global correction spread them over the whole river).
+torch::Tensor local_fraction_update(const torch::Tensor& fraction, const torch::Tensor& change,
+                                    const torch::Tensor& pairs);
 
 // Throws std::invalid_argument naming `where`, the tensor and its sizes when `nodes` does not
 // have the shapes and dtypes above (CPU tensors).
@@ -74,7 +80,11 @@ class LearnedSimulator {
   // of `nodes`. Checks the shapes and dtypes of `nodes`.
   GraphInput encode(const FrameNodes& nodes) const;
   // Normalised outputs for the fluid nodes (with autograd when enabled).
-  NormalisedPrediction predict(const FrameNodes& nodes);
+  NormalisedPrediction predict(const FrameNodes& nodes) {
+    return predict(encode(nodes), nodes.history.size(0));
+  }
+  // The same on a frame's encoded graph whose first `fluid_count` nodes are the fluid.
+  NormalisedPrediction predict(const GraphInput& graph, int64_t fluid_count);
   // Normalised acceleration of the fluid nodes [n, 3] alone.
   torch::Tensor predict_normalised(const FrameNodes& nodes) { return predict(nodes).acceleration; }
   torch::Tensor normalise_acceleration(const torch::Tensor& acceleration) const;

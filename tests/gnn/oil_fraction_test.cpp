@@ -56,24 +56,68 @@ RecordedPour record_pour() {
   return out;
 }
 
-TEST(OilFraction, ConservingUpdateKeepsTheOilVolumeAndTheRange) {
+// Every ordered pair of distinct particles among `members` (a fully connected neighbourhood).
+torch::Tensor all_pairs(const std::vector<int64_t>& members) {
+  std::vector<int64_t> senders, receivers;
+  for (int64_t a : members)
+    for (int64_t b : members)
+      if (a != b) {
+        senders.push_back(a);
+        receivers.push_back(b);
+      }
+  return torch::stack({torch::tensor(senders), torch::tensor(receivers)});
+}
+
+TEST(OilFraction, TheLocalUpdateKeepsTheOilVolumeAndTheRange) {
   torch::manual_seed(3);
-  auto fraction = torch::rand({500});
+  const int64_t n = 500;
+  auto fraction = torch::rand({n});
   fraction.slice(0, 0, 100).fill_(0);
   fraction.slice(0, 100, 200).fill_(1);
-  // Large and biased: the plain update would add 100 particles' worth of oil and clip hundreds.
-  const auto change = torch::randn({500}) * 0.5 + 0.2;
-  const auto updated = gnn::conserving_fraction_update(fraction, change);
+  // Large and biased: taken as it is, it would add 100 particles' worth of oil and clip hundreds.
+  const auto change = torch::randn({n}) * 0.5 + 0.2;
+  // Neighbourhoods: particle i with the next 12 (a ring), both directions.
+  std::vector<int64_t> senders, receivers;
+  for (int64_t i = 0; i < n; ++i)
+    for (int64_t k = 1; k <= 12; ++k) {
+      senders.push_back(i);
+      receivers.push_back((i + k) % n);
+      senders.push_back((i + k) % n);
+      receivers.push_back(i);
+    }
+  const auto pairs = torch::stack({torch::tensor(senders), torch::tensor(receivers)});
+  const auto updated = gnn::local_fraction_update(fraction, change, pairs);
   EXPECT_GE(updated.min().item<double>(), 0.0);
   EXPECT_LE(updated.max().item<double>(), 1.0);
-  const double before = fraction.sum().item<double>();
-  // Float32 sums of 500 values in [0, 1]: 1e-5 relative is ~100 roundings.
-  EXPECT_NEAR(updated.sum().item<double>(), before, 1e-5 * before);
-  EXPECT_GT((updated - fraction).abs().max().item<double>(), 0.3);  // it did move oil
-  // A change with zero mean that clips nothing is applied as it is.
-  const auto half = torch::full({4}, 0.5f);
-  const auto small = torch::tensor({0.1f, -0.1f, 0.05f, -0.05f});
-  EXPECT_TRUE(torch::allclose(gnn::conserving_fraction_update(half, small), half + small));
+  const double before = fraction.to(torch::kFloat64).sum().item<double>();
+  // Float32 storage of 500 values in [0, 1]: 1e-6 relative is ~30 roundings.
+  EXPECT_NEAR(updated.to(torch::kFloat64).sum().item<double>(), before, 1e-6 * before);
+  const auto moved = updated - fraction;
+  EXPECT_GT(moved.abs().max().item<double>(), 0.3);  // it did move oil
+  // No particle moved against its prediction, nor further than asked.
+  EXPECT_TRUE((moved * change >= -1e-7).all().item<bool>());
+  EXPECT_TRUE((moved.abs() <= change.abs() + 1e-6).all().item<bool>());
+}
+
+TEST(OilFraction, OilMovesOnlyBetweenNeighbours) {
+  // Two neighbourhoods that do not touch: 0-3 holds oil and exchanges it; 4-7 is clean water that
+  // a biased model asks to gain oil everywhere.
+  const auto fraction = torch::tensor({1.0f, 0.8f, 0.1f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f});
+  const auto change = torch::tensor({-0.2f, -0.1f, 0.2f, 0.1f, 0.05f, 0.05f, 0.05f, 0.05f});
+  const auto pairs = torch::cat({all_pairs({0, 1, 2, 3}), all_pairs({4, 5, 6, 7})}, 1);
+  const auto updated = gnn::local_fraction_update(fraction, change, pairs);
+  // Within the oily neighbourhood the change balances (0.3 offered, 0.3 asked): applied as it is.
+  EXPECT_TRUE(torch::allclose(updated.slice(0, 0, 4), (fraction + change).slice(0, 0, 4)));
+  // The water far from any oil stays clean.
+  EXPECT_TRUE(torch::equal(updated.slice(0, 4), torch::zeros({4})));
+  // With no pairs at all, nothing moves.
+  EXPECT_TRUE(torch::equal(
+      gnn::local_fraction_update(fraction, change, torch::zeros({2, 0}, torch::kInt64)), fraction));
+  // An unbalanced neighbourhood moves what both sides allow: 0.3 offered, 0.6 asked.
+  const auto greedy = torch::tensor({-0.2f, -0.1f, 0.4f, 0.2f, 0.0f, 0.0f, 0.0f, 0.0f});
+  const auto shared = gnn::local_fraction_update(fraction, greedy, all_pairs({0, 1, 2, 3}));
+  EXPECT_NEAR(shared.slice(0, 2, 4).sum().item<double>(), 0.1 + 0.3, 1e-6);
+  EXPECT_NEAR(shared.sum().item<double>(), fraction.sum().item<double>(), 1e-6);
 }
 
 TEST(OilFraction, TheFractionChannelIsConservedInARollout) {
