@@ -1,5 +1,6 @@
 // spill-infer compare: every model rolled out from the same frames of the same trajectories,
 // scored alike, in one table and one picture (the paper's Table 5 and Fig. 13-17).
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -164,6 +165,11 @@ std::string cell_text(const Figure& f) {
   return f.values.size() < 2 ? m : m + " ± " + number(spread(f.values));
 }
 
+// A share as a percentage with two significant digits ("0 %", "3.4 %").
+std::string percent_text(double share) {
+  return number(100 * share) + " %";
+}
+
 }  // namespace
 
 namespace {
@@ -231,6 +237,9 @@ nlohmann::json model_row(const ComparedModel& model, const gnn::RuntimeSettings&
   long skipped = 0;
   for (const auto& s : scores) skipped += s.skipped_inflow_layers;
   row["skipped_inflow_layers"] = skipped;
+  double deviation = 0;
+  for (const auto& s : scores) deviation = std::max(deviation, s.active_deviation_max);
+  row["active_deviation_max"] = deviation;
   // Frame by frame (frame k after from_frame at index k - 1), the mean over the trajectories
   // that reach it: for figures at a simulated time rather than a frame count.
   row["by_frame"] = {
@@ -285,7 +294,9 @@ const char* const kUnits =
     "frame_dt; null: not defined for this data (e.g. no river, no bank touched). "
     "skipped_inflow_layers: standalone rollouts only, summed over the trajectories: inflow "
     "layers that could not enter because the model's reach returned too little water at the "
-    "outflow (it backed up). Standalone rollouts compare positions only while a particle is "
+    "outflow (it backed up); active_deviation_max: the largest |n_pred - n_true| / n_true over "
+    "the frames and trajectories, n the active fluid particles (a reach that keeps its water "
+    "stays near 0). Standalone rollouts compare positions only while a particle is "
     "the same parcel on both sides (active since the same frame)";
 
 std::string comparison_markdown(const CompareOptions& o, const gnn::DatasetMetadata& m,
@@ -313,8 +324,9 @@ std::string comparison_markdown(const CompareOptions& o, const gnn::DatasetMetad
      << "the order of this table; oil drawn where a particle's oil fraction is at least 1/2.\n\n";
   md << "| model | params | one-step MSE (m²) | MSE @5 | MSE @10 | MSE @20 | MSE @50 | oil IoU "
         "@10 | oil IoU @20 | oil IoU @50 | slick area error | front error (m) | bank contact "
-        "error (s) | watch-point arrival error (s) | s per frame | s per simulated s |\n";
-  md << "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+        "error (s) | watch-point arrival error (s) | s per frame | s per simulated s | "
+        "skipped inflow layers | active particles off by (max) |\n";
+  md << "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
   for (size_t k = 0; k < models.size(); ++k) {
     auto& f = figures[k];
     md << "| " << models[k].name << " (" << rows[k]["model"].get<std::string>() << ") | "
@@ -326,11 +338,13 @@ std::string comparison_markdown(const CompareOptions& o, const gnn::DatasetMetad
        << cell_text(f["front_distance_error_m"]) << " | "
        << cell_text(f["bank_contact_time_error_s"]) << " | "
        << cell_text(f["watch_arrival_time_error_s"]) << " | " << cell_text(f["seconds_per_frame"])
-       << " | " << cell_text(f["seconds_per_simulated_second"]) << " |\n";
+       << " | " << cell_text(f["seconds_per_simulated_second"]) << " | "
+       << rows[k]["skipped_inflow_layers"].get<long>() << " | "
+       << percent_text(rows[k]["active_deviation_max"].get<double>()) << " |\n";
   }
   Figure sph_figure{sph_rates};
   md << "| SPH (the data) | - | - | - | - | - | - | - | - | - | - | - | - | - | - | "
-     << cell_text(sph_figure) << " |\n";
+     << cell_text(sph_figure) << " | - | - |\n";
   return md.str();
 }
 

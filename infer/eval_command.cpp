@@ -91,7 +91,8 @@ TrajectoryScores score_trajectory(const LoadedData& d, const gnn::Trajectory& t,
          {"bank_contact_time_error_s", optional_json(bank_contact_time_error(s))},
          {"watch_arrival_time_error_s", optional_json(watch_arrival_time_error(s))},
          {"wall_s_per_frame", s.wall_s_per_frame},
-         {"skipped_inflow_layers", s.skipped_inflow_layers}};
+         {"skipped_inflow_layers", s.skipped_inflow_layers},
+         {"active_deviation_max", s.active_deviation_max}};
   return s;
 }
 

@@ -154,6 +154,7 @@ nlohmann::json predict_summary(const sph::Simulation& sim, const gnn::SceneRollo
   if (const sph::RiverFlow* flow = sim.flow())
     summary["flow"] = {{"emitted", flow->emitted()},
                        {"retired", flow->retired()},
+                       {"oil_left_m3", flow->oil_left_volume()},
                        {"skipped_inflow_layers", flow->skipped_layers()},
                        {"skipped_note",
                         "inflow layers the pool of returned water could not fill: the forecast "
@@ -215,6 +216,8 @@ nlohmann::json run_predict(const PredictOptions& o) {
                           {"active", sim.fluid().active_count()},
                           {"retired", retired.retired},
                           {"left_domain", retired.left_domain}});
+    if (const sph::RiverFlow* flow = sim.flow())
+      frame_list.back()["oil_left_m3"] = flow->oil_left_volume();
     if (o.log) progress.update(frame, "t = " + text(sim.time()) + " s");
   }
   const double wall_s =

@@ -1,5 +1,6 @@
 #include "infer/trajectory_scores.h"
 
+#include <algorithm>
 #include <cmath>
 #include <numeric>
 
@@ -134,6 +135,10 @@ TrajectoryScores score_frames(gnn::RolloutResult& r, const gnn::Trajectory& t,
     s.iou.push_back(
         gnn::top_view_iou(r.position[k].index({r.active[k] & predicted_oil[k]}).slice(1, 0, 2),
                           truth[k].index({truth_active[k] & truth_oil[k]}).slice(1, 0, 2), cell));
+    const double n_true = truth_active[k].sum().item<double>();
+    if (n_true > 0)
+      s.active_deviation_max = std::max(
+          s.active_deviation_max, std::abs(r.active[k].sum().item<double>() - n_true) / n_true);
   }
   const auto time = t.time.slice(0, from, from + frames + 1);
   s.rollout_seconds = (time[frames] - time[0]).item<double>();

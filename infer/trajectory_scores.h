@@ -48,6 +48,9 @@ struct TrajectoryScores {
   double rollout_seconds = 0;         // simulated seconds the rollout spans
   double wall_s_per_frame = 0, sph_seconds_per_frame = 0;
   long skipped_inflow_layers = 0;  // gnn::RolloutResult's
+  // The largest |n_pred - n_true| / n_true over frames 1..F, n the active fluid particles: a
+  // forecast that keeps the river's water stays near 0 (a draining reach does not).
+  double active_deviation_max = 0;
 };
 
 // How a rollout gets the particles that enter and leave.
