@@ -4,7 +4,8 @@
 // refills the inflow from the water it retires (no layer skipped) and accounts for the oil
 // released, on the water plus what left the reach, within one particle's volume at every frame.
 // Before, water with a trace of oil never returned and the global fraction update put traces
-// everywhere: these models skipped 180-660 inflow layers over the same leak.
+// everywhere: these three models skipped 182-510 inflow layers over the 8 whole-leak test
+// trajectories (docs/results/f40_levers.md).
 //
 // The active particle count then follows the model's own dynamics: a model that piles water up
 // or lets it run out faster than MTDF-SPH holds more or fewer particles in the reach. GNS holds
