@@ -137,7 +137,7 @@ void RiverFlow::after_step(FluidParticles& fluid, double t, Real dt) {
   // layer entered, and the overlap blew a deep, slow river apart. Only x: across and up, the
   // solver keeps the water off a bed and banks that rise along the buffer.
   if (config_.plug) {
-    const Real inflow_end = config_.inflow_x + config_.buffer;
+    const Real inflow_end = buffer_end();
     for (Index i = 0; i < fluid.active_count(); ++i)
       if (fluid.position[i].x() < inflow_end)
         fluid.position[i].x() += (config_.speed - fluid.velocity[i].x()) * dt;
@@ -148,8 +148,7 @@ void RiverFlow::after_step(FluidParticles& fluid, double t, Real dt) {
 
 void RiverFlow::hold_buffers(FluidParticles& fluid) const {
   const Vec3 velocity(config_.speed, 0, 0);
-  const Real inflow_end = config_.inflow_x + config_.buffer;
-  const Real outflow_start = config_.outflow_x - config_.buffer;
+  const Real inflow_end = buffer_end(), outflow_start = outflow_buffer_start();
   for (Index i = 0; i < fluid.active_count(); ++i) {
     const Real x = fluid.position[i].x();
     if (x < inflow_end) fluid.velocity[i] = velocity;
@@ -163,8 +162,7 @@ void RiverFlow::hold_buffers(FluidParticles& fluid) const {
 void RiverFlow::hold_buffers_over_frame(FluidParticles& fluid, const std::vector<Vec3>& previous,
                                         Real dt) const {
   const Vec3 velocity(config_.speed, 0, 0);
-  const Real inflow_end = config_.inflow_x + config_.buffer;
-  const Real outflow_start = config_.outflow_x - config_.buffer;
+  const Real inflow_end = buffer_end(), outflow_start = outflow_buffer_start();
   for (Index i = 0; i < fluid.active_count(); ++i) {
     const Vec3& from = previous[i];
     Vec3& x = fluid.position[i];

@@ -83,6 +83,7 @@ class RiverFlow {
   void restore_recorded(double t, Real newest_x, const std::vector<Index>& pool);
   Real inflow_x() const { return config_.inflow_x; }
   Real buffer_end() const { return config_.inflow_x + config_.buffer; }
+  Real outflow_buffer_start() const { return config_.outflow_x - config_.buffer; }
 
  private:
   struct PoolEntry {

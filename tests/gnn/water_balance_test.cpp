@@ -44,8 +44,8 @@ const std::vector<Model> kModels = {{kSource + "/docs/results/crossover_runs/gns
                                     {kSource + "/docs/results/f40_levers/pagat_student.pt", false}};
 // The scene's whole leak (3 s of oil from 3 s, when the river has settled) and the 2 s after
 // it, in frames of 0.2 s, as the whole-leak test trajectories have it.
+constexpr double kFrameDt = 0.2, kLeakStart = 3.0;
 const std::vector<std::string> kWholeLeak = {"/output/frame_dt=0.2"};
-constexpr double kLeakStart = 3.0;
 
 nlohmann::json read_json(const fs::path& file) {
   std::ifstream in(file);
@@ -71,7 +71,7 @@ TEST(WaterBalance, EveryModelKeepsTheRiversWaterAndItsOilOverAWholeLeak) {
   sph::run_scene(sph::load_scene(kRiverSmall, kWholeLeak), simulated);
   const gnn::Trajectory sph_run = run_folder::read(dir / "simulated", dir / "view_sph").trajectory;
   // The SPH frames from the leak's start on.
-  const int64_t first = std::lround(kLeakStart / 0.2);
+  const int64_t first = std::lround(kLeakStart / kFrameDt);
   std::vector<int64_t> sph_active = active_counts(sph_run);
   sph_active.erase(sph_active.begin(), sph_active.begin() + first);
   const double volume = 0.05 * 0.05 * 0.05;  // a particle of radius 0.025 m
