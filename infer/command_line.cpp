@@ -85,6 +85,14 @@ CLI::App* add_compare_command(CLI::App& app, CompareOptions& compare) {
                 "every position jittered by up to this many particle diameters (e.g. 0.001); "
                 "standalone only")
       ->check(common::positive());
+  c->add_option("--members", compare.members,
+                "ensemble members per model and trajectory: each starts from the frame jittered "
+                "with its own seed (the same seeds for every model); scored by fair CRPS and "
+                "Brier scores besides the members' mean scores; standalone only")
+      ->check(CLI::Range(1, 1000));
+  c->add_option("--member-jitter", compare.member_jitter,
+                "the members' jitter, in particle diameters (default 0.001)")
+      ->check(common::positive());
   c->add_option("--data", compare.data_dir, "dataset folder (metadata.json and <split>.h5)")
       ->required()
       ->check(CLI::ExistingDirectory);

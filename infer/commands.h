@@ -49,6 +49,12 @@ struct CompareOptions {
   // > 0: add the ceiling, the data's own simulator run again from the starting frame with the
   // positions jittered by this many particle diameters (gnn/eval/solver_rollout.h)
   double ceiling_jitter = 0;
+  // Ensembles (issue 48): every model, the floor and the ceiling run `members` times per
+  // trajectory, each member from the starting frame jittered by up to member_jitter particle
+  // diameters with its own seed (the same seeds for every model); 1: one run, learned models
+  // unjittered.
+  int members = 1;
+  double member_jitter = 0.001;
   std::string data_dir;
   std::string split = "test";
   std::string out_dir;

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <functional>
 #include <map>
 #include <sstream>
 
@@ -14,11 +15,13 @@
 #include "common/progress.h"
 #include "common/stop_signals.h"
 #include "gnn/data/frame_window.h"
+#include "gnn/eval/bootstrap.h"
 #include "gnn/eval/solver_rollout.h"
 #include "gnn/runtime/runtime.h"
 #include "gnn/training/checkpoint.h"
 #include "infer/commands.h"
 #include "infer/compare_report.h"
+#include "infer/ensemble_scores.h"
 #include "infer/map_views.h"
 #include "infer/teacher_student_table.h"
 #include "infer/trajectory_scores.h"
@@ -90,25 +93,53 @@ std::optional<double> at_horizon(const std::vector<double>& series, int64_t h) {
   return series[size_t(h - 1)];
 }
 
-const char* const kFigureOrder[] = {"one_step_mse",
-                                    "rollout_mse_5",
-                                    "rollout_mse_10",
-                                    "rollout_mse_20",
-                                    "rollout_mse_50",
-                                    "rollout_mse_all",
-                                    "mmd",
-                                    "kinetic_energy_error",
-                                    "oil_iou_10",
-                                    "oil_iou_20",
-                                    "oil_iou_50",
-                                    "slick_area_error",
-                                    "front_distance_error_m",
-                                    "bank_contact_time_error_s",
-                                    "watch_arrival_time_error_s",
-                                    "compression_mean",
-                                    "compression_p95",
-                                    "seconds_per_frame",
-                                    "seconds_per_simulated_second"};
+// The rollout times the forecast scores are read at: 1 s, 2 s and the leak's end.
+const char* const kHorizonNames[] = {"1s", "2s", "leak_end"};
+
+std::optional<double> horizon_seconds(const TrajectoryScores& s, const std::string& horizon) {
+  if (horizon == "1s") return 1.0;
+  if (horizon == "2s") return 2.0;
+  return s.leak_end;
+}
+
+// The value of a per-frame series `seconds` after the start, where the rollout reached and
+// defined it.
+std::optional<double> at_time(const std::vector<double>& series,
+                              const std::optional<double>& seconds, double frame_dt) {
+  if (!seconds) return std::nullopt;
+  const int64_t k = frame_at(*seconds, frame_dt);
+  if (k < 1) return std::nullopt;
+  const auto v = at_horizon(series, k);
+  if (!v || !std::isfinite(*v)) return std::nullopt;
+  return v;
+}
+
+std::string fss_key(size_t scale) {
+  return "fss_" + std::to_string(int(std::lround(kFssScales[scale] * 100))) + "cm";
+}
+
+// Every figure of a row, in the order comparison.json lists them.
+std::vector<std::string> figure_order() {
+  std::vector<std::string> order = {
+      "one_step_mse",         "rollout_mse_1s", "rollout_mse_5",   "rollout_mse_10",
+      "rollout_mse_20",       "rollout_mse_50", "rollout_mse_all", "mmd",
+      "kinetic_energy_error", "oil_iou_10",     "oil_iou_20",      "oil_iou_50"};
+  for (const std::string h : kHorizonNames) {
+    order.push_back("sinkhorn_oil_" + h);
+    order.push_back("sinkhorn_fluid_" + h);
+    for (size_t j = 0; j < std::size(kFssScales); ++j) order.push_back(fss_key(j) + "_" + h);
+  }
+  for (const std::string h : kHorizonNames)
+    for (const char* key : {"crps_front_m_", "crps_slick_area_m2_", "crps_centroid_x_m_",
+                            "crps_centroid_y_m_", "brier_watch_", "front_spread_m_"})
+      order.push_back(key + h);
+  order.push_back("crps_watch_arrival_s");
+  for (const char* key : {"slick_area_error", "front_distance_error_m", "bank_contact_time_error_s",
+                          "watch_arrival_time_error_s", "compression_mean", "compression_p95",
+                          "seconds_per_frame", "seconds_per_simulated_second"})
+    order.push_back(key);
+  return order;
+}
 
 std::map<std::string, Figure> figures_of(const std::vector<TrajectoryScores>& scores,
                                          double frame_dt) {
@@ -118,6 +149,14 @@ std::map<std::string, Figure> figures_of(const std::vector<TrajectoryScores>& sc
     for (int64_t h : {5, 10, 20, 50}) {
       f["rollout_mse_" + std::to_string(h)].add(at_horizon(s.mse, h));
       if (h >= 10) f["oil_iou_" + std::to_string(h)].add(at_horizon(s.iou, h));
+    }
+    f["rollout_mse_1s"].add(at_time(s.mse, 1.0, frame_dt));
+    for (const std::string h : kHorizonNames) {
+      const auto when = horizon_seconds(s, h);
+      f["sinkhorn_oil_" + h].add(at_time(s.sinkhorn_oil, when, frame_dt));
+      f["sinkhorn_fluid_" + h].add(at_time(s.sinkhorn_fluid, when, frame_dt));
+      for (size_t j = 0; j < s.fss.size(); ++j)
+        f[fss_key(j) + "_" + h].add(at_time(s.fss[j], when, frame_dt));
     }
     f["rollout_mse_all"].add(mean(s.mse));
     f["mmd"].add(mean(s.mmd));
@@ -136,19 +175,41 @@ std::map<std::string, Figure> figures_of(const std::vector<TrajectoryScores>& sc
   return f;
 }
 
+// One trajectory's figures from its members' scores: each figure the mean over the members that
+// define it (so the bootstrap over trajectories sees one value per trajectory), then the
+// ensemble's fair CRPS and Brier scores at the horizons.
+void add_trajectory_figures(std::map<std::string, Figure>& f,
+                            const std::vector<TrajectoryScores>& members, double frame_dt) {
+  for (auto& [key, figure] : figures_of(members, frame_dt))
+    if (!figure.values.empty()) f[key].add(mean(figure.values));
+  const EnsembleScores e = score_ensemble(members, frame_dt);
+  for (const std::string h : kHorizonNames) {
+    const auto when = horizon_seconds(members.front(), h);
+    f["crps_front_m_" + h].add(at_time(e.crps_front, when, frame_dt));
+    f["crps_slick_area_m2_" + h].add(at_time(e.crps_slick_area, when, frame_dt));
+    f["crps_centroid_x_m_" + h].add(at_time(e.crps_centroid_x, when, frame_dt));
+    f["crps_centroid_y_m_" + h].add(at_time(e.crps_centroid_y, when, frame_dt));
+    f["brier_watch_" + h].add(at_time(e.brier_watch, when, frame_dt));
+    f["front_spread_m_" + h].add(at_time(e.front_spread, when, frame_dt));
+  }
+  f["crps_watch_arrival_s"].add(e.crps_watch_arrival);
+}
+
 // The mean at each frame over the trajectories that reach it and define it there (series hold
 // NaN where a figure is undefined); NaN (written as null) where none does.
-std::vector<double> mean_by_frame(const std::vector<TrajectoryScores>& scores,
-                                  std::vector<double> TrajectoryScores::*series) {
+template <typename Series>  // a member pointer or a callable giving a TrajectoryScores' series
+std::vector<double> mean_by_frame(const std::vector<TrajectoryScores>& scores, Series series) {
   size_t longest = 0;
-  for (const auto& s : scores) longest = std::max(longest, (s.*series).size());
+  for (const auto& s : scores) longest = std::max(longest, std::invoke(series, s).size());
   std::vector<double> sum(longest, 0.0), count(longest, 0.0);
-  for (const auto& s : scores)
-    for (size_t k = 0; k < (s.*series).size(); ++k)
-      if (std::isfinite((s.*series)[k])) {
-        sum[k] += (s.*series)[k];
+  for (const auto& s : scores) {
+    const std::vector<double>& values = std::invoke(series, s);
+    for (size_t k = 0; k < values.size(); ++k)
+      if (std::isfinite(values[k])) {
+        sum[k] += values[k];
         count[k] += 1;
       }
+  }
   for (size_t k = 0; k < longest; ++k) sum[k] = count[k] > 0 ? sum[k] / count[k] : std::nan("");
   return sum;
 }
@@ -163,6 +224,15 @@ std::string cell_text(const Figure& f) {
   if (f.values.empty()) return "-";
   const std::string m = number(mean(f.values));
   return f.values.size() < 2 ? m : m + " ± " + number(spread(f.values));
+}
+
+// The mean with its 90 % bootstrap interval over trajectories: "0.12 [0.08, 0.17]".
+std::string interval_text(const Figure& f) {
+  if (f.values.empty()) return "-";
+  const std::string m = number(mean(f.values));
+  if (f.values.size() < 2) return m;
+  const gnn::Interval i = gnn::bootstrap_mean_interval(f.values);
+  return m + " [" + number(i.low) + ", " + number(i.high) + "]";
 }
 
 // A share as a percentage with two significant digits ("0 %", "3.4 %").
@@ -226,14 +296,21 @@ nlohmann::json model_row(const ComparedModel& model, const gnn::RuntimeSettings&
     row["params"] = params;
     if (flops >= 0 && ids.size(0) > 0) row["flops_per_particle"] = flops / double(ids.size(0));
   }
-  nlohmann::json spreads = nlohmann::json::object();
-  for (const char* key : kFigureOrder) {
+  nlohmann::json spreads = nlohmann::json::object(), intervals = nlohmann::json::object();
+  for (const std::string& key : figure_order()) {
     const auto found = figures.find(key);
     const bool none = found == figures.end() || found->second.values.empty();
     row[key] = none ? nlohmann::json(nullptr) : nlohmann::json(mean(found->second.values));
     spreads[key] = none ? nlohmann::json(nullptr) : nlohmann::json(spread(found->second.values));
+    if (none) {
+      intervals[key] = nullptr;
+    } else {
+      const gnn::Interval i = gnn::bootstrap_mean_interval(found->second.values);
+      intervals[key] = {i.low, i.high};
+    }
   }
   row["spread"] = spreads;
+  row["interval90"] = intervals;
   long skipped = 0;
   for (const auto& s : scores) skipped += s.skipped_inflow_layers;
   row["skipped_inflow_layers"] = skipped;
@@ -246,7 +323,12 @@ nlohmann::json model_row(const ComparedModel& model, const gnn::RuntimeSettings&
       {"rollout_mse", mean_by_frame(scores, &TrajectoryScores::mse)},
       {"oil_iou", mean_by_frame(scores, &TrajectoryScores::iou)},
       {"slick_area_error", mean_by_frame(scores, &TrajectoryScores::slick_area_error)},
-      {"front_distance_error_m", mean_by_frame(scores, &TrajectoryScores::front_error)}};
+      {"front_distance_error_m", mean_by_frame(scores, &TrajectoryScores::front_error)},
+      {"sinkhorn_oil", mean_by_frame(scores, &TrajectoryScores::sinkhorn_oil)},
+      {"sinkhorn_fluid", mean_by_frame(scores, &TrajectoryScores::sinkhorn_fluid)}};
+  for (size_t j = 0; j < std::size(kFssScales); ++j)
+    row["by_frame"][fss_key(j)] = mean_by_frame(
+        scores, [j](const TrajectoryScores& s) -> const std::vector<double>& { return s.fss[j]; });
   return row;
 }
 
@@ -271,7 +353,25 @@ nlohmann::json sph_reference(const ComparedTrajectories& c, const gnn::DatasetMe
 }
 
 const char* const kUnits =
-    "each figure is the mean over the trajectories (its standard deviation under 'spread'); "
+    "each figure is the mean over the trajectories (its standard deviation under 'spread', "
+    "the 90 % percentile bootstrap interval of the mean over trajectories under 'interval90'); "
+    "rollout_mse_1s: squared position error (m^2) 1 s after from_frame over the particles that "
+    "are the same parcel on both sides (beyond about 1 s a chaotic flow decorrelates and "
+    "per-particle error scores a realistic forecast worse than a smooth one); "
+    "sinkhorn_oil_H / sinkhorn_fluid_H: debiased Sinkhorn divergence (m^2, squared-distance "
+    "cost, entropic epsilon = the particle diameter squared) between the predicted and recorded "
+    "oil clouds (particles with oil fraction >= 1/2) / fluid clouds, H = 1 s, 2 s or the leak's "
+    "end after from_frame (0 when neither side has oil; left out where one side has none); "
+    "fss_Lcm_H: Fractions Skill Score of the top-view oil footprint (cells one particle "
+    "diameter wide) over L cm windows at H (1 perfect, 0 no skill; left out where neither "
+    "side has oil); with members > 1 every figure of a trajectory is the mean over its members; "
+    "crps_front_m_H, crps_slick_area_m2_H, crps_centroid_x_m_H, crps_centroid_y_m_H: fair CRPS "
+    "(Ferro 2014) of the members' leading edge, slick area and oil centroid against the "
+    "recording's at H (one member: its absolute error); brier_watch_H: fair Brier score of "
+    "'oil within the watch point by H', mean over watch points; crps_watch_arrival_s: fair "
+    "CRPS of the first arrival at each watch point (a side that never arrived counts the "
+    "rollout's length), mean over watch points; front_spread_m_H: standard deviation of the "
+    "members' leading edge at H (the ensemble's own spread); "
     "one_step_mse and rollout_mse_H: squared position error (m^2) H frames after from_frame "
     "('all': mean over every rollout frame); mmd: squared maximum mean discrepancy of the "
     "fluid clouds, mean over frames; kinetic_energy_error: |KE_pred - KE_true| / KE_true, "
@@ -286,7 +386,9 @@ const char* const kUnits =
     "compression_mean / compression_p95: mean and 95th percentile over the particles of "
     "max(rho/rho0 - 1, 0) of each predicted frame (after the relaxation when "
     "relax_iterations > 0), mean over frames; sph.compression_mean: the same of the recorded "
-    "frames. by_frame: rollout_mse, oil_iou, slick_area_error and front_distance_error_m at "
+    "frames. by_frame: rollout_mse, oil_iou, slick_area_error, front_distance_error_m, "
+    "sinkhorn_oil, sinkhorn_fluid (taken at each whole second, the leak's end and the last "
+    "frame only) and fss_Lcm at "
     "every frame after from_frame (index k - 1 for frame k), mean over the trajectories that "
     "reach it and define it there (null: none does; the slick area error is undefined while "
     "the recording has no slick). "
@@ -322,29 +424,73 @@ std::string comparison_markdown(const CompareOptions& o, const gnn::DatasetMetad
      << "`comparison.png`: the first trajectory seen from above (flow down the picture), "
      << "one column per moment; the first row is the simulator (SPH), then one row per model in "
      << "the order of this table; oil drawn where a particle's oil fraction is at least 1/2.\n\n";
-  md << "| model | params | one-step MSE (m²) | MSE @5 | MSE @10 | MSE @20 | MSE @50 | oil IoU "
+  md << "| model | params | one-step MSE (m²) | MSE @1 s | oil IoU "
         "@10 | oil IoU @20 | oil IoU @50 | slick area error | front error (m) | bank contact "
         "error (s) | watch-point arrival error (s) | s per frame | s per simulated s | "
         "skipped inflow layers | active particles off by (max) |\n";
-  md << "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+  md << "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
   for (size_t k = 0; k < models.size(); ++k) {
     auto& f = figures[k];
     md << "| " << models[k].name << " (" << rows[k]["model"].get<std::string>() << ") | "
        << rows[k]["params"].get<int64_t>() << " | " << cell_text(f["one_step_mse"]) << " | "
-       << cell_text(f["rollout_mse_5"]) << " | " << cell_text(f["rollout_mse_10"]) << " | "
-       << cell_text(f["rollout_mse_20"]) << " | " << cell_text(f["rollout_mse_50"]) << " | "
-       << cell_text(f["oil_iou_10"]) << " | " << cell_text(f["oil_iou_20"]) << " | "
-       << cell_text(f["oil_iou_50"]) << " | " << cell_text(f["slick_area_error"]) << " | "
-       << cell_text(f["front_distance_error_m"]) << " | "
-       << cell_text(f["bank_contact_time_error_s"]) << " | "
+       << cell_text(f["rollout_mse_1s"]) << " | " << cell_text(f["oil_iou_10"]) << " | "
+       << cell_text(f["oil_iou_20"]) << " | " << cell_text(f["oil_iou_50"]) << " | "
+       << cell_text(f["slick_area_error"]) << " | " << cell_text(f["front_distance_error_m"])
+       << " | " << cell_text(f["bank_contact_time_error_s"]) << " | "
        << cell_text(f["watch_arrival_time_error_s"]) << " | " << cell_text(f["seconds_per_frame"])
        << " | " << cell_text(f["seconds_per_simulated_second"]) << " | "
        << rows[k]["skipped_inflow_layers"].get<long>() << " | "
        << percent_text(rows[k]["active_deviation_max"].get<double>()) << " |\n";
   }
   Figure sph_figure{sph_rates};
-  md << "| SPH (the data) | - | - | - | - | - | - | - | - | - | - | - | - | - | - | "
-     << cell_text(sph_figure) << " | - | - |\n";
+  md << "| SPH (the data) | - | - | - | - | - | - | - | - | - | - | - | " << cell_text(sph_figure)
+     << " | - | - |\n";
+  md << "\n## Scores a chaotic flow allows\n\n"
+     << "Mean over trajectories [90 % bootstrap interval of the mean]; two models whose intervals "
+     << "overlap are not told apart by these trajectories. Sinkhorn: debiased Sinkhorn divergence "
+     << "of the oil (fluid) clouds, m², epsilon = particle diameter²; FSS: Fractions Skill Score "
+     << "of the top-view oil footprint over the given window (1 perfect, 0 no skill); at 1 s, 2 s "
+     << "and the leak's end after the start; MMD, kinetic-energy error and compression are means "
+     << "over frames.\n\n";
+  md << "| model | oil Sinkhorn @1 s | oil Sinkhorn @2 s | oil Sinkhorn @leak end | fluid Sinkhorn "
+        "@leak end | FSS 20 cm @1 s | FSS 20 cm @2 s | FSS 20 cm @leak end | FSS 5 / 10 / 40 cm "
+        "@leak end | MMD | kinetic-energy error | compression |\n";
+  md << "|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+  for (size_t k = 0; k < models.size(); ++k) {
+    auto& f = figures[k];
+    md << "| " << models[k].name << " | " << interval_text(f["sinkhorn_oil_1s"]) << " | "
+       << interval_text(f["sinkhorn_oil_2s"]) << " | " << interval_text(f["sinkhorn_oil_leak_end"])
+       << " | " << interval_text(f["sinkhorn_fluid_leak_end"]) << " | "
+       << interval_text(f["fss_20cm_1s"]) << " | " << interval_text(f["fss_20cm_2s"]) << " | "
+       << interval_text(f["fss_20cm_leak_end"]) << " | " << cell_text(f["fss_5cm_leak_end"])
+       << " / " << cell_text(f["fss_10cm_leak_end"]) << " / " << cell_text(f["fss_40cm_leak_end"])
+       << " | " << interval_text(f["mmd"]) << " | " << interval_text(f["kinetic_energy_error"])
+       << " | " << interval_text(f["compression_mean"]) << " |\n";
+  }
+  md << "\n## The ensembles as forecasts\n\n"
+     << o.members << " member(s) per model and trajectory"
+     << (o.members > 1
+             ? ", each started from the frame jittered by up to " + number(o.member_jitter) +
+                   " particle diameters with its own seed (the same seeds for every "
+                   "model)"
+             : " (a deterministic forecast: its CRPS is its absolute error)")
+     << ". Fair CRPS (Ferro 2014) against the recording, mean over trajectories [90 % bootstrap "
+     << "interval]; Brier: fair Brier score of \"oil within the watch point by then\", mean over "
+     << "watch points. Lower is better.\n\n";
+  md << "| model | CRPS front (m) @1 s | @2 s | @leak end | CRPS slick area (m²) @1 s | @2 s | "
+        "@leak end | CRPS centroid x (m) @leak end | Brier watch points @leak end | CRPS "
+        "watch-point arrival (s) | members' front spread (m) @leak end |\n";
+  md << "|---|---|---|---|---|---|---|---|---|---|---|\n";
+  for (size_t k = 0; k < models.size(); ++k) {
+    auto& f = figures[k];
+    md << "| " << models[k].name;
+    for (const char* key :
+         {"crps_front_m_1s", "crps_front_m_2s", "crps_front_m_leak_end", "crps_slick_area_m2_1s",
+          "crps_slick_area_m2_2s", "crps_slick_area_m2_leak_end", "crps_centroid_x_m_leak_end",
+          "brier_watch_leak_end", "crps_watch_arrival_s", "front_spread_m_leak_end"})
+      md << " | " << interval_text(f[key]);
+    md << " |\n";
+  }
   return md.str();
 }
 
@@ -373,6 +519,10 @@ void write_comparison_picture(const fs::path& file, const ComparedTrajectories& 
 void run_compare(const CompareOptions& o) {
   if (o.checkpoints.empty() && !o.constant_velocity && !(o.ceiling_jitter > 0))
     throw common::InputError("compare: give --checkpoints, --constant-velocity or --ceiling");
+  if (o.members > 1 && o.replay_recorded_sources)
+    throw common::InputError(
+        "compare: --members runs jittered members standalone; it has no "
+        "--replay-recorded-sources");
   if (o.ceiling_jitter > 0 && o.replay_recorded_sources)
     throw common::InputError(
         "compare: --ceiling runs the scene's own sources; it has no --replay-recorded-sources");
@@ -393,10 +543,11 @@ void run_compare(const CompareOptions& o) {
   std::unique_ptr<common::ProgressReporter> progress;
   if (o.log)
     progress = std::make_unique<common::ProgressReporter>(
-        *o.log, false, long(models.size() * c.trajectories.size()), "compare");
+        *o.log, false, long(models.size() * c.trajectories.size()) * o.members, "compare");
   nlohmann::json rows = nlohmann::json::array();
   std::vector<std::map<std::string, Figure>> figures;
-  std::vector<gnn::RolloutResult> pictured;  // each model's rollout of the first trajectory
+  std::vector<gnn::RolloutResult> pictured;  // each model's first member of the first trajectory
+  const double member_jitter = o.member_jitter * 2 * m.particle_radius;  // m
   long done = 0;
   for (auto& model : models) {
     const gnn::RuntimeSettings mix =
@@ -405,29 +556,53 @@ void run_compare(const CompareOptions& o) {
             : gnn::inference_runtime(o.threads,
                                      model.simulator->model().infers_on_one_blas_thread());
     gnn::configure_runtime(mix);
-    std::vector<TrajectoryScores> scores;
+    std::vector<TrajectoryScores> scores;  // every member of every trajectory
+    std::map<std::string, Figure> model_figures;
     for (size_t k = 0; k < c.trajectories.size(); ++k) {
-      gnn::RolloutResult kept;
-      const auto on_frame = [&](int64_t frame) {
-        common::throw_if_stopped(o.stop, [&] {
-          return "at frame " + std::to_string(frame) + " of " + model.name + " on " +
-                 c.trajectories[k].source + "; nothing written";
-        });
-      };
-      if (model.simulator) {
-        scores.push_back(score_rollout(*model.simulator, c.trajectories[k], m, c.scenes[k].get(),
-                                       c.recorded[k], o.from, c.frames[k], rollout_sources, o.relax,
-                                       k == 0 ? &kept : nullptr, on_frame));
-      } else {
-        kept = gnn::solver_rollout(c.trajectories[k], o.from, c.frames[k], m.frame_dt,
-                                   o.ceiling_jitter * 2 * m.particle_radius, k + 1, on_frame);
-        scores.push_back(score_frames(kept, c.trajectories[k], m, c.scenes[k].get(), c.recorded[k],
-                                      o.from, c.frames[k]));
+      std::vector<TrajectoryScores> members;
+      for (int j = 0; j < o.members; ++j) {
+        gnn::RolloutResult kept;
+        const auto on_frame = [&](int64_t frame) {
+          common::throw_if_stopped(o.stop, [&] {
+            return "at frame " + std::to_string(frame) + " of " + model.name + " on " +
+                   c.trajectories[k].source + "; nothing written";
+          });
+        };
+        // The ceiling's first member keeps its seed of one-run comparisons; every model's member
+        // j starts from the same jittered positions.
+        const uint64_t seed = uint64_t(k + 1) + 1000 * uint64_t(j);
+        const bool first = k == 0 && j == 0;
+        if (model.simulator) {
+          const double jitter = o.members > 1 ? member_jitter : 0.0;
+          if (j == 0) {
+            members.push_back(score_rollout(*model.simulator, c.trajectories[k], m,
+                                            c.scenes[k].get(), c.recorded[k], o.from, c.frames[k],
+                                            rollout_sources, o.relax, first ? &kept : nullptr,
+                                            on_frame, jitter, seed));
+          } else {  // the one-step error is the same for every member: taken once
+            kept = roll_out(*model.simulator, c.trajectories[k], o.from, c.frames[k], m.frame_dt,
+                            rollout_sources, on_frame, relaxation_hook(c.scenes[k].get(), o.relax),
+                            jitter, seed);
+            members.push_back(score_frames(kept, c.trajectories[k], m, c.scenes[k].get(),
+                                           c.recorded[k], o.from, c.frames[k]));
+          }
+        } else {
+          const double jitter =
+              o.members > 1 ? member_jitter : o.ceiling_jitter * 2 * m.particle_radius;
+          kept = gnn::solver_rollout(c.trajectories[k], o.from, c.frames[k], m.frame_dt, jitter,
+                                     seed, on_frame);
+          members.push_back(score_frames(kept, c.trajectories[k], m, c.scenes[k].get(),
+                                         c.recorded[k], o.from, c.frames[k]));
+        }
+        if (first) pictured.push_back(std::move(kept));
+        if (progress)
+          progress->update(++done, model.name + " " + c.trajectories[k].source +
+                                       (o.members > 1 ? " member " + std::to_string(j + 1) : ""));
       }
-      if (k == 0) pictured.push_back(std::move(kept));
-      if (progress) progress->update(++done, model.name + " " + c.trajectories[k].source);
+      add_trajectory_figures(model_figures, members, m.frame_dt);
+      scores.insert(scores.end(), members.begin(), members.end());
     }
-    figures.push_back(figures_of(scores, m.frame_dt));
+    figures.push_back(std::move(model_figures));
     rows.push_back(model_row(model, mix, scores, figures.back(), o, c, m));
   }
   if (progress) progress->finish("");
@@ -437,17 +612,21 @@ void run_compare(const CompareOptions& o) {
   nlohmann::json sources = nlohmann::json::array();
   for (size_t k = 0; k < c.trajectories.size(); ++k)
     sources.push_back({{"source", c.trajectories[k].source}, {"frames", c.frames[k]}});
-  const nlohmann::json result = {{"data", o.data_dir},
-                                 {"split", o.split},
-                                 {"from_frame", o.from},
-                                 {"frame_dt", m.frame_dt},
-                                 {"threads", o.threads},
-                                 {"relax_iterations", o.relax},
-                                 {"sources", sources_name(rollout_sources)},
-                                 {"units", kUnits},
-                                 {"models", rows},
-                                 {"sph", sph},
-                                 {"trajectories", sources}};
+  const nlohmann::json result = {
+      {"data", o.data_dir},
+      {"split", o.split},
+      {"from_frame", o.from},
+      {"frame_dt", m.frame_dt},
+      {"threads", o.threads},
+      {"relax_iterations", o.relax},
+      {"members", o.members},
+      {"member_jitter_diameters",
+       o.members > 1 ? nlohmann::json(o.member_jitter) : nlohmann::json(nullptr)},
+      {"sources", sources_name(rollout_sources)},
+      {"units", kUnits},
+      {"models", rows},
+      {"sph", sph},
+      {"trajectories", sources}};
   const fs::path out = output.staging();
   common::write_file_atomically((out / "comparison.json").string(), result.dump(2) + "\n");
   common::write_file_atomically(

@@ -3,11 +3,14 @@
 #include <algorithm>
 #include <cmath>
 #include <numeric>
+#include <set>
 
 #include "common/exit_codes.h"
 #include "gnn/data/frame_window.h"
+#include "gnn/eval/fractions_skill.h"
 #include "gnn/eval/metrics.h"
 #include "gnn/eval/scene_rollout.h"
+#include "gnn/eval/sinkhorn.h"
 #include "sph/river/slick_shape.h"
 
 namespace infer {
@@ -46,6 +49,11 @@ FrameMeasures measure_frames(gnn::SpillScene& scene, const torch::Tensor& positi
       out.slick_area.push_back(sph::measure_slick(fluid, sph::Real(scene.cell())).area_m2);
     }
     if (k > 0) {
+      const auto oil = position[k].index({active[k] & (fraction[k] >= gnn::kOilFractionThreshold)});
+      const bool none = oil.size(0) == 0;
+      const auto centre = none ? torch::Tensor() : oil.to(torch::kFloat64).mean(0);
+      out.centroid_x.push_back(none ? std::nan("") : centre[0].item<double>());
+      out.centroid_y.push_back(none ? std::nan("") : centre[1].item<double>());
       // fluid_of_frame holds the active particles only.
       const sph::CompressionStats c = density.measure(fluid.position, fluid.oil_fraction);
       out.compression_mean.push_back(c.mean);
@@ -91,7 +99,8 @@ TrajectoryScores score_rollout(gnn::LearnedSimulator& sim, const gnn::Trajectory
                                const gnn::DatasetMetadata& m, gnn::SpillScene* scene,
                                const FrameMeasures& recorded, int64_t from, int64_t frames,
                                Sources sources, int relax_iterations, gnn::RolloutResult* kept,
-                               const std::function<void(int64_t)>& on_frame) {
+                               const std::function<void(int64_t)>& on_frame, double jitter,
+                               uint64_t seed) {
   std::vector<int64_t> one_step_frames;
   const int64_t first = gnn::kWindow - 1, last = t.frames() - 2;
   const int64_t stride = std::max<int64_t>(1, (last - first + 1) / 20);
@@ -99,7 +108,7 @@ TrajectoryScores score_rollout(gnn::LearnedSimulator& sim, const gnn::Trajectory
   const double one_step_mse = gnn::one_step_position_mse(sim, t, one_step_frames, m.frame_dt);
 
   auto r = roll_out(sim, t, from, frames, m.frame_dt, sources, on_frame,
-                    relaxation_hook(scene, relax_iterations));
+                    relaxation_hook(scene, relax_iterations), jitter, seed);
   TrajectoryScores s = score_frames(r, t, m, scene, recorded, from, frames);
   s.one_step_mse = one_step_mse;
   if (kept) *kept = std::move(r);
@@ -119,6 +128,18 @@ TrajectoryScores score_frames(gnn::RolloutResult& r, const gnn::Trajectory& t,
   const auto truth_oil = truth_fraction >= gnn::kOilFractionThreshold;
   const auto predicted_oil = r.oil_fraction >= gnn::kOilFractionThreshold;
   const auto predicted_since = active_since(r.active), truth_since = active_since(truth_active);
+  const auto time = t.time.slice(0, from, from + frames + 1);
+  s.rollout_seconds = (time[frames] - time[0]).item<double>();
+  if (scene)
+    if (const auto end = scene->leak_end_time()) {
+      const double after_start = *end - time[0].item<double>();
+      if (after_start > 0 && after_start <= s.rollout_seconds + 1e-9) s.leak_end = after_start;
+    }
+  const auto costly = costly_frames(frames, m.frame_dt, s.leak_end);
+  const std::set<int64_t> costly_set(costly.begin(), costly.end());
+  gnn::SinkhornSettings sinkhorn;
+  sinkhorn.epsilon = std::pow(kSinkhornBlurDiameters * cell, 2);
+  s.fss.assign(std::size(kFssScales), {});
   for (int64_t k = 1; k <= frames; ++k) {
     // The same particle on both sides: active on both, since the same frame.
     auto same = r.active[k] & truth_active[k] & (predicted_since[k] == truth_since[k]);
@@ -135,13 +156,24 @@ TrajectoryScores score_frames(gnn::RolloutResult& r, const gnn::Trajectory& t,
     s.iou.push_back(
         gnn::top_view_iou(r.position[k].index({r.active[k] & predicted_oil[k]}).slice(1, 0, 2),
                           truth[k].index({truth_active[k] & truth_oil[k]}).slice(1, 0, 2), cell));
+    const auto oil_p = r.position[k].index({r.active[k] & predicted_oil[k]});
+    const auto oil_t = truth[k].index({truth_active[k] & truth_oil[k]});
+    for (size_t j = 0; j < std::size(kFssScales); ++j)
+      s.fss[j].push_back(
+          gnn::fractions_skill_score(oil_p.slice(1, 0, 2), oil_t.slice(1, 0, 2), cell,
+                                     std::max<int64_t>(1, std::llround(kFssScales[j] / cell))));
+    const bool take = costly_set.count(k) > 0;
+    s.sinkhorn_oil.push_back(take ? gnn::sinkhorn_divergence(oil_p, oil_t, sinkhorn)
+                                  : std::nan(""));
+    s.sinkhorn_fluid.push_back(take ? gnn::sinkhorn_divergence(r.position[k].index({r.active[k]}),
+                                                               truth[k].index({truth_active[k]}),
+                                                               sinkhorn)
+                                    : std::nan(""));
     const double n_true = truth_active[k].sum().item<double>();
     if (n_true > 0)
       s.active_deviation_max = std::max(
           s.active_deviation_max, std::abs(r.active[k].sum().item<double>() - n_true) / n_true);
   }
-  const auto time = t.time.slice(0, from, from + frames + 1);
-  s.rollout_seconds = (time[frames] - time[0]).item<double>();
   s.recorded = recorded;
   if (scene) s.predicted = measure_frames(*scene, r.position, r.active, r.oil_fraction, time);
   const double undefined = std::nan("");
@@ -161,6 +193,19 @@ TrajectoryScores score_frames(gnn::RolloutResult& r, const gnn::Trajectory& t,
   return s;
 }
 
+int64_t frame_at(double seconds, double frame_dt) {
+  return int64_t(std::llround(seconds / frame_dt));
+}
+
+std::vector<int64_t> costly_frames(int64_t frames, double frame_dt,
+                                   const std::optional<double>& leak_end) {
+  std::set<int64_t> at{frames};
+  for (int second = 1; frame_at(second, frame_dt) <= frames; ++second)
+    at.insert(frame_at(second, frame_dt));
+  if (leak_end) at.insert(std::clamp<int64_t>(frame_at(*leak_end, frame_dt), 1, frames));
+  return {at.begin(), at.end()};
+}
+
 const char* sources_name(Sources sources) {
   return sources == Sources::kScene ? "standalone" : "replayed recording";
 }
@@ -168,10 +213,15 @@ const char* sources_name(Sources sources) {
 gnn::RolloutResult roll_out(gnn::LearnedSimulator& simulator, const gnn::Trajectory& t,
                             int64_t from, int64_t frames, double frame_dt, Sources sources,
                             const std::function<void(int64_t)>& on_frame,
-                            const gnn::FrameCorrection& correct) {
-  if (sources == Sources::kRecorded)
+                            const gnn::FrameCorrection& correct, double jitter, uint64_t seed) {
+  if (sources == Sources::kRecorded) {
+    if (jitter > 0)
+      throw common::InputError(
+          "--replay-recorded-sources replays the recording: it has no jittered members");
     return gnn::rollout(simulator, t, from, frames, frame_dt, on_frame, correct);
-  return gnn::standalone_rollout(simulator, t, from, frames, frame_dt, on_frame, correct);
+  }
+  return gnn::standalone_rollout(simulator, t, from, frames, frame_dt, on_frame, correct, jitter,
+                                 seed);
 }
 
 torch::Tensor active_since(const torch::Tensor& active) {

@@ -25,9 +25,10 @@ namespace infer {
 // and the first time (s after the rollout's start) each bank (left, right) was touched, if it
 // was; the first time oil reached each of the scene's watch points, if it did (by name, every
 // watch point present); the compression max(rho/rho0 - 1, 0), mean and 95th percentile over the
-// particles.
+// particles; the oil's centroid.
 struct FrameMeasures {
   std::vector<double> slick_area, front;
+  std::vector<double> centroid_x, centroid_y;  // the oil's mean top-view position (m); NaN: none
   std::optional<double> bank[2];
   std::map<std::string, std::optional<double>> arrival;
   std::vector<double> compression_mean, compression_p95;
@@ -51,7 +52,28 @@ struct TrajectoryScores {
   // The largest |n_pred - n_true| / n_true over frames 1..F, n the active fluid particles: a
   // forecast that keeps the river's water stays near 0 (a draining reach does not).
   double active_deviation_max = 0;
+  // Scores a chaotic flow allows (issue 48), per rollout frame 1..F, NaN where not taken: the
+  // debiased Sinkhorn divergence (m^2, epsilon kSinkhornBlurDiameters^2 particle diameters
+  // squared) of the oil clouds and of the fluid clouds, at the frames of costly_frames() only
+  // (each costs O(n^2)); the Fractions Skill Score of the oil footprint at each of kFssScales,
+  // every frame (NaN while neither side has oil).
+  std::vector<double> sinkhorn_oil, sinkhorn_fluid;
+  std::vector<std::vector<double>> fss;  // [scale][frame]
+  std::optional<double> leak_end;        // s after the rollout's start the leak ends, if within it
 };
+
+// The neighbourhoods (m) the oil footprint's Fractions Skill Score is taken at, on a grid of one
+// particle diameter (a window of round(scale / diameter) cells, at least one).
+inline constexpr double kFssScales[] = {0.05, 0.10, 0.20, 0.40};
+// The Sinkhorn divergence's blur, in particle diameters: epsilon = (blur x diameter)^2.
+inline constexpr double kSinkhornBlurDiameters = 1.0;
+
+// The rollout frame (1-based) `seconds` after its start, round(seconds / frame_dt).
+int64_t frame_at(double seconds, double frame_dt);
+// The frames where the costly scores are taken: each whole second after the start, the leak's
+// end (when given) and the last frame.
+std::vector<int64_t> costly_frames(int64_t frames, double frame_dt,
+                                   const std::optional<double>& leak_end);
 
 // How a rollout gets the particles that enter and leave.
 enum class Sources {
@@ -64,7 +86,8 @@ inline Sources sources_of(bool replay_recorded_sources) {
   return replay_recorded_sources ? Sources::kRecorded : Sources::kScene;
 }
 
-// Rolls `simulator` out over frames from+1 .. from+frames of `t` and scores it against the
+// Rolls `simulator` out over frames from+1 .. from+frames of `t` (its starting positions jittered
+// by up to `jitter` m with `seed`, standalone only) and scores it against the
 // recording, whose measures `recorded` are recorded_measures(scene, t, from, frames); `scene`
 // (may be null) gives the particle volume and the river for the oil measures and the density
 // correction: with `relax_iterations` > 0 every learned frame gets that many iterations of it
@@ -80,7 +103,8 @@ TrajectoryScores score_rollout(gnn::LearnedSimulator& simulator, const gnn::Traj
                                const FrameMeasures& recorded, int64_t from, int64_t frames,
                                Sources sources, int relax_iterations = 0,
                                gnn::RolloutResult* kept = nullptr,
-                               const std::function<void(int64_t)>& on_frame = {});
+                               const std::function<void(int64_t)>& on_frame = {}, double jitter = 0,
+                               uint64_t seed = 0);
 
 // Scores a rollout `r` of frames from+1 .. from+frames of `t` as score_rollout does (its
 // one_step_mse left empty).
@@ -88,11 +112,13 @@ TrajectoryScores score_frames(gnn::RolloutResult& r, const gnn::Trajectory& t,
                               const gnn::DatasetMetadata& m, gnn::SpillScene* scene,
                               const FrameMeasures& recorded, int64_t from, int64_t frames);
 
-// Rolls out as `sources` says (arguments as gnn::rollout's).
+// Rolls out as `sources` says (arguments as gnn::rollout's; `jitter` (m) and `seed` as
+// gnn::standalone_rollout's, standalone only: common::InputError for a replayed one).
 gnn::RolloutResult roll_out(gnn::LearnedSimulator& simulator, const gnn::Trajectory& t,
                             int64_t from, int64_t frames, double frame_dt, Sources sources,
                             const std::function<void(int64_t)>& on_frame,
-                            const gnn::FrameCorrection& correct);
+                            const gnn::FrameCorrection& correct, double jitter = 0,
+                            uint64_t seed = 0);
 
 // [F + 1, N] int64: the frame (0 ..) at which each particle's present run of active frames
 // began, -1 where it is inactive.

@@ -1,6 +1,7 @@
 #include "gnn/eval/scene_rollout.h"
 
 #include <chrono>
+#include <random>
 #include <stdexcept>
 
 #include "common/config_error.h"
@@ -96,6 +97,23 @@ sph::ExternalFrameStats SceneRollout::advance(int frame, const FrameCorrection& 
   return stats;
 }
 
+torch::Tensor jitter_active_positions(sph::RecordedFrame& f, double jitter, uint64_t seed) {
+  if (!(jitter >= 0)) throw std::invalid_argument("jitter must be >= 0");
+  auto offset = torch::zeros({int64_t(f.position.size()), 3});
+  if (jitter == 0) return offset;
+  std::mt19937_64 random(seed);
+  std::uniform_real_distribution<double> uniform(-jitter, jitter);
+  auto o = offset.accessor<float, 2>();
+  for (size_t i = 0; i < f.position.size(); ++i)
+    if (f.active[i])
+      for (int d = 0; d < 3; ++d) {
+        const sph::Real moved = sph::Real(uniform(random));
+        f.position[i][d] += moved;
+        o[int64_t(i)][d] = float(moved);
+      }
+  return offset;
+}
+
 IdentityFrame identity_frame(const sph::Simulation& sim) {
   const sph::FluidParticles& f = sim.fluid();
   const int64_t n = int64_t(f.size());
@@ -157,16 +175,20 @@ std::unique_ptr<sph::Simulation> simulation_at_frame(
 RolloutResult standalone_rollout(LearnedSimulator& model, const Trajectory& t, int64_t first_frame,
                                  int64_t frames, double frame_dt,
                                  const std::function<void(int64_t)>& on_frame,
-                                 const FrameCorrection& correct) {
+                                 const FrameCorrection& correct, double jitter, uint64_t seed) {
   if (first_frame < 0 || frames < 1 || first_frame + frames >= t.frames())
     throw std::invalid_argument(t.source + ": cannot roll out " + std::to_string(frames) +
                                 " frames from frame " + std::to_string(first_frame) + " of " +
                                 std::to_string(t.frames()));
-  auto simulation = simulation_at_frame(t, first_frame, frame_dt);
+  torch::Tensor offset;
+  auto simulation = simulation_at_frame(t, first_frame, frame_dt, [&](sph::RecordedFrame& f) {
+    offset = jitter_active_positions(f, jitter, seed);
+  });
   sph::Simulation& sim = *simulation;
   SceneRollout stepper(model, sim, t.material, frame_dt, t.source);
   const auto ids = active_ids(t, first_frame);
-  stepper.set_history(ids, position_history(t, first_frame, ids, frame_dt));
+  stepper.set_history(ids, position_history(t, first_frame, ids, frame_dt) +
+                               offset.index_select(0, ids).unsqueeze(1));
 
   RolloutResult out;
   out.first_frame = first_frame;

@@ -73,9 +73,19 @@ std::unique_ptr<sph::Simulation> simulation_at_frame(
 // and from the sources and sinks of the trajectory's scene (t.scene). Inactive rows of the
 // result keep a particle's last position. Throws DatasetError when the trajectory carries no
 // scene or its scene does not have the trajectory's particles; arguments as rollout()'s.
+// With `jitter` > 0 the active particles start moved by independent uniform offsets in
+// [-jitter, jitter] m per coordinate (seeded by `seed`), each particle's whole input history by
+// its own offset (its velocity unchanged): one member of an ensemble, as jittered_frame makes the
+// solver's.
 RolloutResult standalone_rollout(LearnedSimulator& model, const Trajectory& t, int64_t first_frame,
                                  int64_t frames, double frame_dt,
                                  const std::function<void(int64_t)>& on_frame = {},
-                                 const FrameCorrection& correct = {});
+                                 const FrameCorrection& correct = {}, double jitter = 0,
+                                 uint64_t seed = 0);
+
+// Moves the active particles of `f` by independent uniform offsets in [-jitter, jitter] m per
+// coordinate drawn in particle order from a generator seeded by `seed`; returns each particle's
+// offset [N, 3] (zero for inactive ones). Throws std::invalid_argument for a negative jitter.
+torch::Tensor jitter_active_positions(sph::RecordedFrame& f, double jitter, uint64_t seed);
 
 }  // namespace gnn

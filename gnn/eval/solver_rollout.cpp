@@ -1,7 +1,6 @@
 #include "gnn/eval/solver_rollout.h"
 
 #include <chrono>
-#include <random>
 #include <stdexcept>
 #include <string>
 
@@ -17,12 +16,8 @@ RolloutResult solver_rollout(const Trajectory& t, int64_t first_frame, int64_t f
                                 " frames from frame " + std::to_string(first_frame) + " of " +
                                 std::to_string(t.frames()));
   if (!(jitter >= 0)) throw std::invalid_argument("solver rollout: jitter must be >= 0");
-  std::mt19937_64 random(seed);
-  std::uniform_real_distribution<double> offset(-jitter, jitter);
   auto sim = simulation_at_frame(t, first_frame, frame_dt, [&](sph::RecordedFrame& f) {
-    for (size_t i = 0; i < f.position.size(); ++i)
-      if (f.active[i])
-        for (int d = 0; d < 3; ++d) f.position[i][d] += sph::Real(offset(random));
+    jitter_active_positions(f, jitter, seed);
   });
   RolloutResult out;
   out.first_frame = first_frame;

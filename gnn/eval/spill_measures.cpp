@@ -1,5 +1,7 @@
 #include "gnn/eval/spill_measures.h"
 
+#include <algorithm>
+
 #include "sph/scene/scene_loader.h"
 #include "sph/simulation/simulation.h"
 #include "sph/simulation/spill_measurement.h"
@@ -44,6 +46,13 @@ std::vector<std::string> SpillScene::watch_point_names() const {
   std::vector<std::string> names;
   for (const auto& w : scene_.watch_points) names.push_back(w.name);
   return names;
+}
+
+std::optional<double> SpillScene::leak_end_time() const {
+  std::optional<double> end;
+  for (const auto& leak : scene_.leaks)
+    end = std::max(end.value_or(0.0), double(leak.start + leak.duration));
+  return end;
 }
 
 sph::DensityRelaxation& SpillScene::relaxation() {

@@ -7,6 +7,7 @@
 #include <torch/torch.h>
 
 #include <memory>
+#include <optional>
 
 #include "gnn/data/dataset.h"
 #include "gnn/eval/rollout.h"
@@ -45,6 +46,8 @@ class SpillScene {
   std::unique_ptr<sph::SpillMetrics> river_metrics() const;
   // The names of the scene's watch points (intakes, boom sites), in the scene's order.
   std::vector<std::string> watch_point_names() const;
+  // The simulated time (s) the last of the scene's leaks stops; none without leaks.
+  std::optional<double> leak_end_time() const;
   // The simulator's constant-density correction for this scene (built on first use).
   sph::DensityRelaxation& relaxation();
 

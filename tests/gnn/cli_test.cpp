@@ -205,7 +205,10 @@ TEST(Cli, CompareWritesARowPerModelAndTheFloor) {
   EXPECT_EQ(run(compare + " --checkpoints " + (dir / "bad.pt").string() + " --out " +
                 (dir / "bad").string()),
             2);
-  for (const char* out : {"nothing", "missing", "bad"}) EXPECT_FALSE(fs::exists(dir / out)) << out;
+  // Jittered members are standalone rollouts: a replayed recording has none.
+  EXPECT_EQ(run(compare + checkpoints + " --members 2 --out " + (dir / "members").string()), 2);
+  for (const char* out : {"nothing", "missing", "bad", "members"})
+    EXPECT_FALSE(fs::exists(dir / out)) << out;
 
   // spill-infer export: a weights-only copy rolls out exactly as the original does, is less than
   // half its size (Adam keeps two moments per weight), and cannot be resumed from.

@@ -11,6 +11,7 @@
 #include "gnn/eval/scene_rollout.h"
 #include "gnn/eval/solver_rollout.h"
 #include "gnn/models/model_registry.h"
+#include "infer/ensemble_scores.h"
 #include "infer/trajectory_scores.h"
 #include "sph/app/scene_runner.h"
 #include "sph/river/river_flow.h"
@@ -216,6 +217,123 @@ TEST_F(Standalone, ResponderErrorsAreNilForTheRecordingAndSeeTheOilMoved) {
   EXPECT_GE(lead, 0.0);
   EXPECT_LE(lead, shift / 1.0 + m.frame_dt);  // the oil moves at about 1.5 m/s, never under 1
   EXPECT_DOUBLE_EQ(*infer::watch_arrival_time_error(scores), lead);
+}
+
+// The scores a chaotic flow allows, on the same two rollouts: the recording against itself has
+// divergence 0 and a perfect footprint; oil moved 0.2 m downstream costs exactly 0.2^2 = 0.04 m^2
+// of oil-cloud Sinkhorn divergence (a shifted cloud's cost, whatever the epsilon), and its
+// footprint scores better the wider the window.
+TEST_F(Standalone, ForecastScoresAreNilForTheRecordingAndSeeTheOilMoved) {
+  const gnn::Trajectory& t = recording_.trajectory;
+  const gnn::DatasetMetadata& m = recording_.metadata;
+  const int64_t from = 2, frames = t.frames() - 1 - from;
+  gnn::SpillScene scene(t);
+  const auto recorded = infer::recorded_measures(&scene, t, from, frames);
+  const auto span = [&](const torch::Tensor& x) { return x.slice(0, from, from + frames + 1); };
+  gnn::RolloutResult same{from, span(t.position).clone(), span(t.active).clone(),
+                          span(t.oil_fraction).clone(), std::vector<double>(size_t(frames), 0.0)};
+  const auto nil = infer::score_frames(same, t, m, &scene, recorded, from, frames);
+  // The leak (0.1 s to 0.6 s) ends 0.6 s - t(from) after the start.
+  ASSERT_TRUE(nil.leak_end);
+  EXPECT_NEAR(*nil.leak_end, 0.6 - t.time[from].item<double>(), 1e-6);
+  const auto costly = infer::costly_frames(frames, m.frame_dt, nil.leak_end);
+  ASSERT_EQ(costly.back(), frames);
+  int taken = 0;
+  for (int64_t k : costly) {
+    ASSERT_TRUE(std::isfinite(nil.sinkhorn_fluid[size_t(k - 1)])) << k;
+    EXPECT_NEAR(nil.sinkhorn_fluid[size_t(k - 1)], 0.0, 1e-9) << k;
+    EXPECT_NEAR(nil.sinkhorn_oil[size_t(k - 1)], 0.0, 1e-9) << k;
+    ++taken;
+  }
+  EXPECT_GE(taken, 2);
+  for (const auto& scale : nil.fss)
+    for (double v : scale)
+      if (std::isfinite(v)) {
+        EXPECT_DOUBLE_EQ(v, 1.0);
+      }
+
+  gnn::RolloutResult moved = same;
+  moved.position = same.position.clone();
+  const auto oil = moved.oil_fraction >= gnn::kOilFractionThreshold;
+  moved.position.select(2, 0).add_(oil.to(torch::kFloat32) * 0.2f);
+  const auto scores = infer::score_frames(moved, t, m, &scene, recorded, from, frames);
+  int with_oil = 0;
+  for (int64_t k : costly) {
+    if (recorded.slick_area[size_t(k - 1)] <= 0) continue;
+    EXPECT_NEAR(scores.sinkhorn_oil[size_t(k - 1)], 0.04, 2e-4) << k;  // float positions
+    const size_t f = size_t(k - 1);
+    EXPECT_LT(scores.fss[0][f], scores.fss[3][f]) << k;
+    EXPECT_LT(scores.fss[0][f], 1.0) << k;
+    ++with_oil;
+  }
+  EXPECT_GE(with_oil, 1);
+}
+
+// An ensemble of three members, one the recording and two with its oil 0.2 m downstream: where
+// the leading edge is inside the reach, the fair CRPS of {f, f + 0.2, f + 0.2} against f is
+// 0.4/3 - 0.8/12 = 0.2/3 m; while only the moved members have reached the watch point, the fair
+// Brier score of p = 2/3 against "not yet" is 4/9 - (2/9)/2 = 1/3, and 0 before and after.
+TEST_F(Standalone, AnEnsembleIsScoredByFairCrpsAndBrier) {
+  const gnn::Trajectory& t = recording_.trajectory;
+  const gnn::DatasetMetadata& m = recording_.metadata;
+  const int64_t from = 2, frames = t.frames() - 1 - from;
+  gnn::SpillScene scene(t);
+  const auto recorded = infer::recorded_measures(&scene, t, from, frames);
+  const auto span = [&](const torch::Tensor& x) { return x.slice(0, from, from + frames + 1); };
+  gnn::RolloutResult same{from, span(t.position).clone(), span(t.active).clone(),
+                          span(t.oil_fraction).clone(), std::vector<double>(size_t(frames), 0.0)};
+  gnn::RolloutResult moved = same;
+  moved.position = same.position.clone();
+  const auto oil = moved.oil_fraction >= gnn::kOilFractionThreshold;
+  moved.position.select(2, 0).add_(oil.to(torch::kFloat32) * 0.2f);
+  const auto truth = infer::score_frames(same, t, m, &scene, recorded, from, frames);
+  const auto ahead = infer::score_frames(moved, t, m, &scene, recorded, from, frames);
+  const infer::EnsembleScores e = infer::score_ensemble({truth, ahead, ahead}, m.frame_dt);
+  const double reach_end = scene_.config.flow->outflow_x - 1.0;
+  int inside = 0;
+  for (int64_t k = 0; k < frames; ++k)
+    if (recorded.front[size_t(k)] > 0 && recorded.front[size_t(k)] + 0.2 < reach_end) {
+      EXPECT_NEAR(e.crps_front[size_t(k)], 0.2 / 3, 1e-4) << k;
+      EXPECT_NEAR(e.front_spread[size_t(k)], std::sqrt(0.04 / 3), 1e-4) << k;
+      ++inside;
+    }
+  EXPECT_GT(inside, 5);
+  const double arrived = *recorded.arrival.at("intake"),
+               early = *ahead.predicted.arrival.at("intake");
+  ASSERT_LT(early, arrived);
+  int between = 0;
+  for (int64_t k = 0; k < frames; ++k) {
+    const double now = double(k + 1) * m.frame_dt;
+    const double expected = now >= early - 1e-9 && now < arrived - 1e-9 ? 1.0 / 3 : 0.0;
+    EXPECT_NEAR(e.brier_watch[size_t(k)], expected, 1e-12) << k;
+    between += expected > 0 ? 1 : 0;
+  }
+  EXPECT_GE(between, 1);
+  // Every member the recording: a sure and right forecast.
+  const infer::EnsembleScores exact = infer::score_ensemble({truth, truth}, m.frame_dt);
+  for (double v : exact.crps_front)
+    if (std::isfinite(v)) {
+      EXPECT_EQ(v, 0.0);
+    }
+  EXPECT_EQ(exact.crps_watch_arrival, 0.0);
+}
+
+// A jittered member (gnn::standalone_rollout's jitter): the floor's first frame moves each
+// particle by its own offset, no more than the jitter (its velocity is unchanged), and the same
+// seed gives the same member.
+TEST_F(Standalone, AJitteredMemberMovesByItsOffsetAndRepeatsWithItsSeed) {
+  const gnn::Trajectory& t = recording_.trajectory;
+  const double dt = recording_.metadata.frame_dt;
+  const double jitter = 1e-3 * 2 * recording_.metadata.particle_radius;
+  const auto plain = gnn::standalone_rollout(*simulator_, t, 2, 1, dt);
+  const auto member = gnn::standalone_rollout(*simulator_, t, 2, 1, dt, {}, {}, jitter, 5);
+  const auto again = gnn::standalone_rollout(*simulator_, t, 2, 1, dt, {}, {}, jitter, 5);
+  const auto both = plain.active[1] & member.active[1] & t.active[2];
+  const auto moved = (member.position[1] - plain.position[1]).index({both}).abs();
+  EXPECT_GT(moved.max().item<double>(), 0.1 * jitter);
+  // Positions are float32: a difference of two positions a few metres out carries a few 1e-7 m.
+  EXPECT_LE(moved.max().item<double>(), jitter + 2e-6);
+  EXPECT_TRUE(torch::equal(member.position[1], again.position[1]));
 }
 
 // An event seen by one side only counts the time from that sighting to the rollout's end; seen
