@@ -4,7 +4,9 @@ between the constant-velocity floor (0) and the ceiling, the data's own solver r
 jittered frame (1), per figure and per seed group, as Markdown tables on stdout: the position
 MSE and oil IoU at the given times, the responder's errors (slick area and leading edge at those
 times and over all frames, bank contact and watch-point arrival), then each figure's place
-between floor and ceiling.
+between floor and ceiling (with the oil cloud's Sinkhorn divergence and the footprint's FSS at
+20 cm for runs that have them; the raw value, marked, wherever the ceiling is not better than
+the floor, instead of a placing that would invert).
 
 usage: scripts/ceiling_table.py COMPARISON_JSON [MORE_JSON ...] [SECONDS ...]   (default seconds: 1 2 4)
 
@@ -22,8 +24,20 @@ import statistics
 import sys
 
 
-def position(value, floor, ceiling):
-    return (value - floor) / (ceiling - floor) if ceiling != floor else float("nan")
+# Figures where a higher value is the better forecast; every other one is an error.
+HIGHER_IS_BETTER = ("oil_iou", "fss_5cm", "fss_10cm", "fss_20cm", "fss_40cm")
+
+
+def placed(value, floor, ceiling, series):
+    """The value's place between floor (0) and ceiling (1); where the ceiling is not better than
+    the floor (a chaotic flow's per-particle error after a few seconds), the placing would invert,
+    so the raw value is given, marked with a dagger."""
+    if any(math.isnan(v) for v in (value, floor, ceiling)):
+        return "-"
+    better = ceiling > floor if series in HIGHER_IS_BETTER else ceiling < floor
+    if not better:
+        return "%.3g†" % value
+    return "%.2f" % ((value - floor) / (ceiling - floor))
 
 
 def main():
@@ -93,6 +107,8 @@ def main():
     print()
     by_time = [("MSE", "rollout_mse"), ("IoU", "oil_iou"), ("area", "slick_area_error"),
                ("front", "front_distance_error_m")]
+    if "sinkhorn_oil" in floor["by_frame"]:  # runs since issue 48's scores
+        by_time += [("oil Sinkhorn", "sinkhorn_oil"), ("FSS 20 cm", "fss_20cm")]
     whole_keys = [("area, all", "slick_area_error"), ("front, all", "front_distance_error_m"),
                   ("bank", "bank_contact_time_error_s"), ("watch", "watch_arrival_time_error_s")]
     head = ["model"] + ["%s @%gs" % (name, t) for name, _ in by_time for t in seconds] + \
@@ -104,11 +120,14 @@ def main():
         for _, series in by_time:
             for t in seconds:
                 v = statistics.mean(at(m, series, t) for m in models)
-                line.append("%.2f" % position(v, at(floor, series, t), at(ceiling, series, t)))
+                line.append(placed(v, at(floor, series, t), at(ceiling, series, t), series))
         for _, key in whole_keys:
             v = statistics.mean(whole(m, key) for m in models)
-            line.append("%.2f" % position(v, whole(floor, key), whole(ceiling, key)))
+            line.append(placed(v, whole(floor, key), whole(ceiling, key), key))
         print("| " + " | ".join(line) + " |")
+    print()
+    print("†: the ceiling is not better than the floor on this figure (per-particle error of a "
+          "flow that has decorrelated): the model's raw value, not a placing.")
     print()
     print("First time each model's position MSE (mean over seeds) is above the floor's:")
     print()
