@@ -423,7 +423,13 @@ std::string comparison_markdown(const CompareOptions& o, const gnn::DatasetMetad
      << "Units and definitions: `comparison.json`, key `units`. "
      << "`comparison.png`: the first trajectory seen from above (flow down the picture), "
      << "one column per moment; the first row is the simulator (SPH), then one row per model in "
-     << "the order of this table; oil drawn where a particle's oil fraction is at least 1/2.\n\n";
+     << "the order of this table; oil drawn where a particle's oil fraction is at least 1/2."
+     << (o.members > 1
+             ? " `comparison_oiling.png`: the first trajectory's probability of oiling, a row per "
+               "model in this order, at 1 s, 2 s, the leak's end and the last frame: each cell "
+               "with oil in any member, darker the more members have oil there."
+             : "")
+     << "\n\n";
   md << "| model | params | one-step MSE (m²) | MSE @1 s | oil IoU "
         "@10 | oil IoU @20 | oil IoU @50 | slick area error | front error (m) | bank contact "
         "error (s) | watch-point arrival error (s) | s per frame | s per simulated s | "
@@ -514,6 +520,30 @@ void write_comparison_picture(const fs::path& file, const ComparedTrajectories& 
   common::write_png(file.string(), image_grid(grid));
 }
 
+// The first trajectory's probability of oiling, a row per model, at 1 s, 2 s, the leak's end and
+// the last frame.
+void write_oiling_picture(const fs::path& file, const ComparedTrajectories& c,
+                          const gnn::DatasetMetadata& m,
+                          const std::vector<std::vector<gnn::RolloutResult>>& ensembles) {
+  const MapViewRenderer renderer(c.trajectories.front(), m);
+  const int64_t frames = c.frames[0];
+  std::vector<int64_t> moments;
+  for (double seconds : {1.0, 2.0}) moments.push_back(frame_at(seconds, m.frame_dt));
+  if (const gnn::SpillScene* scene = c.scenes[0].get())
+    if (const auto end = scene->leak_end_time())
+      moments.push_back(frame_at(
+          *end - c.trajectories[0].time[ensembles[0][0].first_frame].item<double>(), m.frame_dt));
+  moments.push_back(frames);
+  std::vector<std::vector<common::RgbImage>> grid;
+  for (const auto& members : ensembles) {
+    grid.emplace_back();
+    for (int64_t k : moments)
+      grid.back().push_back(renderer.render_oiling(members, std::clamp<int64_t>(k, 1, frames),
+                                                   2 * m.particle_radius));
+  }
+  common::write_png(file.string(), image_grid(grid));
+}
+
 }  // namespace
 
 void run_compare(const CompareOptions& o) {
@@ -547,6 +577,8 @@ void run_compare(const CompareOptions& o) {
   nlohmann::json rows = nlohmann::json::array();
   std::vector<std::map<std::string, Figure>> figures;
   std::vector<gnn::RolloutResult> pictured;  // each model's first member of the first trajectory
+  // With members: every member of the first trajectory, per model (the probability of oiling).
+  std::vector<std::vector<gnn::RolloutResult>> ensembles;
   const double member_jitter = o.member_jitter * 2 * m.particle_radius;  // m
   long done = 0;
   for (auto& model : models) {
@@ -594,6 +626,10 @@ void run_compare(const CompareOptions& o) {
           members.push_back(score_frames(kept, c.trajectories[k], m, c.scenes[k].get(),
                                          c.recorded[k], o.from, c.frames[k]));
         }
+        if (k == 0 && o.members > 1) {
+          if (j == 0) ensembles.emplace_back();
+          ensembles.back().push_back(kept);  // shares the tensors
+        }
         if (first) pictured.push_back(std::move(kept));
         if (progress)
           progress->update(++done, model.name + " " + c.trajectories[k].source +
@@ -635,6 +671,7 @@ void run_compare(const CompareOptions& o) {
   const std::string table6 = teacher_student_table(result);
   if (!table6.empty()) common::write_file_atomically((out / "teacher_student.md").string(), table6);
   write_comparison_picture(out / "comparison.png", c, m, o.from, pictured);
+  if (o.members > 1) write_oiling_picture(out / "comparison_oiling.png", c, m, ensembles);
   write_compare_report(out);
   output.commit();
   if (o.log)

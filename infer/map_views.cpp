@@ -1,6 +1,8 @@
 #include "infer/map_views.h"
 
 #include <algorithm>
+#include <map>
+#include <set>
 
 namespace infer {
 
@@ -24,6 +26,36 @@ MapViewRenderer::MapViewRenderer(const gnn::Trajectory& t, const gnn::DatasetMet
   }
   renderer_ = std::make_shared<common::FrameRenderer>(points(t.boundary), bounds,
                                                       float(m.particle_radius), width);
+  top_ = bounds.max[2];
+}
+
+common::RgbImage MapViewRenderer::render_oiling(const std::vector<gnn::RolloutResult>& members,
+                                                int64_t frame, double cell) const {
+  std::vector<common::Point> at;
+  std::vector<float> shade;
+  if (members.empty()) return renderer_->render(at, shade, common::ViewAxis::kRiver);
+  const gnn::RolloutResult& first = members.front();
+  const auto water = first.active[frame].nonzero().view(-1);
+  at = points(first.position[frame].index_select(0, water));
+  shade.assign(at.size(), 0.0f);
+  std::map<std::pair<int64_t, int64_t>, int> members_with_oil;
+  for (const auto& r : members) {
+    const auto oil = r.active[frame] & (r.oil_fraction[frame] >= gnn::kOilFractionThreshold);
+    const auto c =
+        torch::floor(r.position[frame].index({oil}).slice(1, 0, 2).to(torch::kFloat64) / cell)
+            .to(torch::kInt64)
+            .contiguous();
+    std::set<std::pair<int64_t, int64_t>> cells;
+    auto a = c.accessor<int64_t, 2>();
+    for (int64_t i = 0; i < c.size(0); ++i) cells.insert({a[i][0], a[i][1]});
+    for (const auto& key : cells) ++members_with_oil[key];
+  }
+  for (const auto& [key, count] : members_with_oil) {
+    at.emplace_back(float((double(key.first) + 0.5) * cell),
+                    float((double(key.second) + 0.5) * cell), top_);
+    shade.push_back(float(count) / float(members.size()));
+  }
+  return renderer_->render(at, shade, common::ViewAxis::kRiver);
 }
 
 common::RgbImage MapViewRenderer::render(const torch::Tensor& position, const torch::Tensor& active,

@@ -11,6 +11,7 @@
 
 #include "common/image_writer.h"
 #include "gnn/data/dataset.h"
+#include "gnn/eval/rollout.h"
 
 namespace infer {
 
@@ -21,9 +22,16 @@ class MapViewRenderer {
   // positions [N, 3], active [N] bool and oil fractions [N] of one frame.
   common::RgbImage render(const torch::Tensor& position, const torch::Tensor& active,
                           const torch::Tensor& oil_fraction) const;
+  // The probability of oiling at frame `frame` of an ensemble: each top-view cell of side `cell`
+  // (m) that holds oil in any member drawn on top, shaded by the share of members with oil there
+  // (the oil colour's scale: pale blue for few, near-black for all), over the first member's
+  // water. How operational spill models show uncertainty.
+  common::RgbImage render_oiling(const std::vector<gnn::RolloutResult>& members, int64_t frame,
+                                 double cell) const;
 
  private:
   std::shared_ptr<common::FrameRenderer> renderer_;
+  float top_ = 0;  // the domain's top (m): oiled cells are drawn there, above the water
 };
 
 // `rows` of images on a white page, `gap` pixels apart; each cell as large as the largest image.
