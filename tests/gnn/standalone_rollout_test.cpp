@@ -12,6 +12,7 @@
 #include "gnn/eval/solver_rollout.h"
 #include "gnn/models/model_registry.h"
 #include "infer/ensemble_scores.h"
+#include "infer/map_views.h"
 #include "infer/trajectory_scores.h"
 #include "sph/app/scene_runner.h"
 #include "sph/river/river_flow.h"
@@ -316,6 +317,33 @@ TEST_F(Standalone, AnEnsembleIsScoredByFairCrpsAndBrier) {
       EXPECT_EQ(v, 0.0);
     }
   EXPECT_EQ(exact.crps_watch_arrival, 0.0);
+}
+
+// The probability-of-oiling picture shades each cell by the share of members with oil there: two
+// members that are both the recording draw the oil at full strength (near-black), one recording
+// beside one without oil draws it at half (never that dark), and no oil draws none.
+TEST_F(Standalone, TheOilingPictureShadesCellsByTheShareOfMembersWithOil) {
+  const gnn::Trajectory& t = recording_.trajectory;
+  const gnn::DatasetMetadata& m = recording_.metadata;
+  const int64_t from = 2, frames = t.frames() - 1 - from;
+  const auto span = [&](const torch::Tensor& x) { return x.slice(0, from, from + frames + 1); };
+  gnn::RolloutResult same{from, span(t.position).clone(), span(t.active).clone(),
+                          span(t.oil_fraction).clone(), {}};
+  gnn::RolloutResult clean = same;
+  clean.oil_fraction = torch::zeros_like(same.oil_fraction);
+  const infer::MapViewRenderer renderer(t, m);
+  const auto dark_pixels = [](const common::RgbImage& image) {
+    int dark = 0;
+    for (size_t p = 0; p + 2 < image.pixels.size(); p += 3)
+      dark += image.pixels[p] < 80 && image.pixels[p + 1] < 80 && image.pixels[p + 2] < 80;
+    return dark;
+  };
+  const double cell = 2 * m.particle_radius;
+  EXPECT_GT(dark_pixels(renderer.render_oiling({same, same}, frames, cell)), 20);
+  EXPECT_EQ(dark_pixels(renderer.render_oiling({same, clean}, frames, cell)), 0);
+  EXPECT_EQ(dark_pixels(renderer.render_oiling({clean, clean}, frames, cell)), 0);
+  const auto half = renderer.render_oiling({same, clean}, frames, cell).pixels;
+  EXPECT_NE(half, renderer.render_oiling({clean, clean}, frames, cell).pixels);
 }
 
 // A jittered member (gnn::standalone_rollout's jitter): the floor's first frame moves each
