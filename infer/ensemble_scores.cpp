@@ -1,7 +1,9 @@
 #include "infer/ensemble_scores.h"
 
 #include <cmath>
+#include <optional>
 #include <stdexcept>
+#include <string>
 
 #include "gnn/eval/ensemble_scores.h"
 
@@ -20,6 +22,12 @@ double crps_at(const std::vector<TrajectoryScores>& members, size_t k,
     if (k < predicted.size() && std::isfinite(predicted[k])) values.push_back(predicted[k]);
   }
   return values.empty() ? std::nan("") : gnn::fair_crps(values, recorded[k]);
+}
+
+// When a member's oil first reached watch point `name`, if it did.
+std::optional<double> arrival_of(const TrajectoryScores& member, const std::string& name) {
+  const auto found = member.predicted.arrival.find(name);
+  return found == member.predicted.arrival.end() ? std::nullopt : found->second;
 }
 
 }  // namespace
@@ -46,8 +54,8 @@ EnsembleScores score_ensemble(const std::vector<TrajectoryScores>& members, doub
     for (const auto& [name, recorded] : first.recorded.arrival) {
       int reached = 0;
       for (const auto& m : members) {
-        const auto found = m.predicted.arrival.find(name);
-        if (found != m.predicted.arrival.end() && found->second && *found->second <= now) ++reached;
+        const auto arrived = arrival_of(m, name);
+        if (arrived && *arrived <= now) ++reached;
       }
       brier += gnn::fair_brier(reached, int(members.size()), recorded && *recorded <= now);
       ++points;
@@ -61,10 +69,9 @@ EnsembleScores score_ensemble(const std::vector<TrajectoryScores>& members, doub
     bool anyone = bool(recorded);
     std::vector<double> times;
     for (const auto& m : members) {
-      const auto found = m.predicted.arrival.find(name);
-      const bool reached = found != m.predicted.arrival.end() && found->second;
-      anyone = anyone || reached;
-      times.push_back(reached ? *found->second : m.rollout_seconds);
+      const auto arrived = arrival_of(m, name);
+      anyone = anyone || arrived;
+      times.push_back(arrived.value_or(m.rollout_seconds));
     }
     if (!anyone) continue;
     sum += gnn::fair_crps(times, recorded ? *recorded : first.rollout_seconds);

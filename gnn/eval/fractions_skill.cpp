@@ -55,13 +55,8 @@ double fractions_skill_score(const torch::Tensor& forecast_xy, const torch::Tens
   // Summed-area tables (one row and column of zeros first) of each binary field.
   const auto summed = [&](const std::vector<std::pair<int64_t, int64_t>>& cells) {
     std::vector<double> s(size_t((w + 1) * (h + 1)), 0.0);
-    std::vector<char> seen(size_t(w * h), 0);
-    for (const auto& [x, y] : cells) {
-      const size_t at = size_t((y - y0) * w + (x - x0));
-      if (seen[at]) continue;
-      seen[at] = 1;
-      s[size_t((y - y0 + 1) * (w + 1) + (x - x0 + 1))] = 1.0;
-    }
+    // Set, not added: several points in one cell occupy it once.
+    for (const auto& [x, y] : cells) s[size_t((y - y0 + 1) * (w + 1) + (x - x0 + 1))] = 1.0;
     for (int64_t j = 1; j <= h; ++j)
       for (int64_t i = 1; i <= w; ++i)
         s[size_t(j * (w + 1) + i)] += s[size_t((j - 1) * (w + 1) + i)] +

@@ -49,6 +49,24 @@ class Standalone : public ::testing::Test {
   }
   void TearDown() override { fs::remove_all(dir_); }
 
+  // The recording's frames from .. from + frames as a rollout that predicted them exactly.
+  gnn::RolloutResult recorded_rollout(int64_t from, int64_t frames) const {
+    const gnn::Trajectory& t = recording_.trajectory;
+    const auto span = [&](const torch::Tensor& x) {
+      return x.slice(0, from, from + frames + 1).clone();
+    };
+    return {from, span(t.position), span(t.active), span(t.oil_fraction),
+            std::vector<double>(size_t(frames), 0.0)};
+  }
+  // `r` with every particle that is oil at a frame moved `shift` m downstream there.
+  static gnn::RolloutResult oil_moved(const gnn::RolloutResult& r, float shift) {
+    gnn::RolloutResult moved = r;
+    moved.position = r.position.clone();
+    const auto oil = r.oil_fraction >= gnn::kOilFractionThreshold;
+    moved.position.select(2, 0).add_(oil.to(torch::kFloat32) * shift);
+    return moved;
+  }
+
   fs::path dir_;
   sph::LoadedScene scene_;
   run_folder::Read recording_;
@@ -182,9 +200,7 @@ TEST_F(Standalone, ResponderErrorsAreNilForTheRecordingAndSeeTheOilMoved) {
   ASSERT_EQ(scene.watch_point_names(), std::vector<std::string>{"intake"});
   const auto recorded = infer::recorded_measures(&scene, t, from, frames);
   ASSERT_TRUE(recorded.arrival.at("intake")) << "the test's oil must reach the watch point";
-  const auto span = [&](const torch::Tensor& x) { return x.slice(0, from, from + frames + 1); };
-  gnn::RolloutResult same{from, span(t.position).clone(), span(t.active).clone(),
-                          span(t.oil_fraction).clone(), std::vector<double>(size_t(frames), 0.0)};
+  gnn::RolloutResult same = recorded_rollout(from, frames);
   const auto nil = infer::score_frames(same, t, m, &scene, recorded, from, frames);
   ASSERT_EQ(nil.slick_area_error.size(), size_t(frames));
   int defined = 0;
@@ -199,10 +215,7 @@ TEST_F(Standalone, ResponderErrorsAreNilForTheRecordingAndSeeTheOilMoved) {
   EXPECT_EQ(infer::watch_arrival_time_error(nil), 0.0);
 
   const double shift = 0.2;
-  gnn::RolloutResult moved = same;
-  moved.position = same.position.clone();
-  const auto oil = moved.oil_fraction >= gnn::kOilFractionThreshold;
-  moved.position.select(2, 0).add_(oil.to(torch::kFloat32) * shift);
+  gnn::RolloutResult moved = oil_moved(same, float(shift));
   const auto scores = infer::score_frames(moved, t, m, &scene, recorded, from, frames);
   const double reach_end = scene_.config.flow->outflow_x - 1.0;  // leak at x = 1
   int inside = 0;
@@ -230,9 +243,7 @@ TEST_F(Standalone, ForecastScoresAreNilForTheRecordingAndSeeTheOilMoved) {
   const int64_t from = 2, frames = t.frames() - 1 - from;
   gnn::SpillScene scene(t);
   const auto recorded = infer::recorded_measures(&scene, t, from, frames);
-  const auto span = [&](const torch::Tensor& x) { return x.slice(0, from, from + frames + 1); };
-  gnn::RolloutResult same{from, span(t.position).clone(), span(t.active).clone(),
-                          span(t.oil_fraction).clone(), std::vector<double>(size_t(frames), 0.0)};
+  gnn::RolloutResult same = recorded_rollout(from, frames);
   const auto nil = infer::score_frames(same, t, m, &scene, recorded, from, frames);
   // The leak (0.1 s to 0.6 s) ends 0.6 s - t(from) after the start.
   ASSERT_TRUE(nil.leak_end);
@@ -253,10 +264,7 @@ TEST_F(Standalone, ForecastScoresAreNilForTheRecordingAndSeeTheOilMoved) {
         EXPECT_DOUBLE_EQ(v, 1.0);
       }
 
-  gnn::RolloutResult moved = same;
-  moved.position = same.position.clone();
-  const auto oil = moved.oil_fraction >= gnn::kOilFractionThreshold;
-  moved.position.select(2, 0).add_(oil.to(torch::kFloat32) * 0.2f);
+  gnn::RolloutResult moved = oil_moved(same, 0.2f);
   const auto scores = infer::score_frames(moved, t, m, &scene, recorded, from, frames);
   int with_oil = 0;
   for (int64_t k : costly) {
@@ -280,13 +288,8 @@ TEST_F(Standalone, AnEnsembleIsScoredByFairCrpsAndBrier) {
   const int64_t from = 2, frames = t.frames() - 1 - from;
   gnn::SpillScene scene(t);
   const auto recorded = infer::recorded_measures(&scene, t, from, frames);
-  const auto span = [&](const torch::Tensor& x) { return x.slice(0, from, from + frames + 1); };
-  gnn::RolloutResult same{from, span(t.position).clone(), span(t.active).clone(),
-                          span(t.oil_fraction).clone(), std::vector<double>(size_t(frames), 0.0)};
-  gnn::RolloutResult moved = same;
-  moved.position = same.position.clone();
-  const auto oil = moved.oil_fraction >= gnn::kOilFractionThreshold;
-  moved.position.select(2, 0).add_(oil.to(torch::kFloat32) * 0.2f);
+  gnn::RolloutResult same = recorded_rollout(from, frames);
+  gnn::RolloutResult moved = oil_moved(same, 0.2f);
   const auto truth = infer::score_frames(same, t, m, &scene, recorded, from, frames);
   const auto ahead = infer::score_frames(moved, t, m, &scene, recorded, from, frames);
   const infer::EnsembleScores e = infer::score_ensemble({truth, ahead, ahead}, m.frame_dt);
@@ -326,9 +329,7 @@ TEST_F(Standalone, TheOilingPictureShadesCellsByTheShareOfMembersWithOil) {
   const gnn::Trajectory& t = recording_.trajectory;
   const gnn::DatasetMetadata& m = recording_.metadata;
   const int64_t from = 2, frames = t.frames() - 1 - from;
-  const auto span = [&](const torch::Tensor& x) { return x.slice(0, from, from + frames + 1); };
-  gnn::RolloutResult same{from, span(t.position).clone(), span(t.active).clone(),
-                          span(t.oil_fraction).clone(), {}};
+  gnn::RolloutResult same = recorded_rollout(from, frames);
   gnn::RolloutResult clean = same;
   clean.oil_fraction = torch::zeros_like(same.oil_fraction);
   const infer::MapViewRenderer renderer(t, m);
