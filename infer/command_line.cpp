@@ -136,6 +136,15 @@ CLI::App* add_predict_command(CLI::App& app, PredictOptions& o) {
   p->add_flag("--png", o.png, "write side-, top- and river-view pictures of every frame");
   p->add_flag("--vtk", o.vtk, kVtkHelp);
   add_relax_option(p, o.relax);
+  p->add_option("--members", o.members,
+                "an ensemble of K forecasts in one process: the first as without it, the others "
+                "from a start jittered by --member-jitter; adds ensemble.json (per frame the "
+                "mean and 10/50/90 % quantiles of front, slick area, centroid and watch-point "
+                "arrival), members/NN/spill.json and oiling.png (default 1)")
+      ->check(common::positive());
+  p->add_option("--member-jitter", o.member_jitter,
+                "the members' jitter, in particle diameters (default 0.001)")
+      ->check(common::positive());
   p->add_option("--threads", o.threads, "cores to use (default 2)")->check(common::positive());
   add_blas_threads_option(p, o.blas_threads);
   return p;

@@ -81,6 +81,11 @@ struct PredictOptions {
   bool png = false;
   bool vtk = false;  // VTK (ParaView) point files of every frame in OUT/vtk/
   int relax = 0;
+  // An ensemble (issue 48): K forecasts, the first unperturbed (this folder's), the others with
+  // every active particle's start moved by up to member_jitter particle diameters (seeded by the
+  // member's number), summarised in ensemble.json, members/ and oiling.png.
+  int members = 1;
+  double member_jitter = 0.001;
   int threads = 2;
   int blas_threads = 0;
   std::ostream* log = nullptr;

@@ -63,14 +63,7 @@ sph::ExternalFrameStats SceneRollout::advance(int frame, const FrameCorrection& 
   // What is due by the start (the rest is released at the end of each frame below).
   if (frames_ == 0) sim_.release_sources();
   const ActiveParticles now = active_particles(sim_);
-  // Particles new to the run (just released, or active at its start without a history).
-  const auto fresh = now.ids.index({~current_.index_select(0, now.ids)});
-  if (fresh.size(0) > 0) {
-    const auto in_slots = (~current_.index_select(0, now.ids)).nonzero().view(-1);
-    history_.index_copy_(0, fresh,
-                         launched_histories(now.position.index_select(0, in_slots),
-                                            now.velocity.index_select(0, in_slots), frame_dt_));
-  }
+  launch_fresh(now.ids, now.position, now.velocity);
   auto window = history_.index_select(0, now.ids);
   NextState next = model_.next_state({window, now.oil_fraction, material_, boundary_});
   // Named here, with the frame: later it would surface as a particle outside the domain.
@@ -97,20 +90,49 @@ sph::ExternalFrameStats SceneRollout::advance(int frame, const FrameCorrection& 
   return stats;
 }
 
-torch::Tensor jitter_active_positions(sph::RecordedFrame& f, double jitter, uint64_t seed) {
+void SceneRollout::launch_fresh(const torch::Tensor& ids, const torch::Tensor& position,
+                                const torch::Tensor& velocity) {
+  // Particles new to the run (just released, or active at its start without a history).
+  const auto in_slots = (~current_.index_select(0, ids)).nonzero().view(-1);
+  if (in_slots.size(0) == 0) return;
+  const auto fresh = ids.index_select(0, in_slots);
+  history_.index_copy_(0, fresh,
+                       launched_histories(position.index_select(0, in_slots),
+                                          velocity.index_select(0, in_slots), frame_dt_));
+  current_.index_fill_(0, fresh, true);
+}
+
+void SceneRollout::jitter_start(double jitter, uint64_t seed) {
+  if (frames_ != 0) throw std::logic_error(where_ + ": an ensemble member jitters its start only");
+  sim_.release_sources();
+  const ActiveParticles now = active_particles(sim_);
+  launch_fresh(now.ids, now.position, now.velocity);
+  std::vector<std::uint8_t> active(size_t(history_.size(0)), 0);
+  auto ids = now.ids.accessor<int64_t, 1>();
+  for (int64_t i = 0; i < ids.size(0); ++i) active[size_t(ids[i])] = 1;
+  history_ += jitter_offsets(active, jitter, seed).unsqueeze(1);
+}
+
+torch::Tensor jitter_offsets(const std::vector<std::uint8_t>& active, double jitter,
+                             uint64_t seed) {
   if (!(jitter >= 0)) throw std::invalid_argument("jitter must be >= 0");
-  auto offset = torch::zeros({int64_t(f.position.size()), 3});
+  auto offset = torch::zeros({int64_t(active.size()), 3});
   if (jitter == 0) return offset;
   std::mt19937_64 random(seed);
   std::uniform_real_distribution<double> uniform(-jitter, jitter);
   auto o = offset.accessor<float, 2>();
+  for (size_t i = 0; i < active.size(); ++i)
+    if (active[i])
+      for (int d = 0; d < 3; ++d) o[int64_t(i)][d] = float(sph::Real(uniform(random)));
+  return offset;
+}
+
+torch::Tensor jitter_active_positions(sph::RecordedFrame& f, double jitter, uint64_t seed) {
+  const torch::Tensor offset = jitter_offsets(f.active, jitter, seed);
+  auto o = offset.accessor<float, 2>();
   for (size_t i = 0; i < f.position.size(); ++i)
     if (f.active[i])
-      for (int d = 0; d < 3; ++d) {
-        const sph::Real moved = sph::Real(uniform(random));
-        f.position[i][d] += moved;
-        o[int64_t(i)][d] = float(moved);
-      }
+      for (int d = 0; d < 3; ++d) f.position[i][d] += sph::Real(o[int64_t(i)][d]);
   return offset;
 }
 

@@ -40,8 +40,18 @@ class SceneRollout {
   sph::ExternalFrameStats advance(int frame, const FrameCorrection& correct = {});
   // Particles the frames so far retired by the river's rules, and outside the domain.
   const sph::ExternalFrameStats& retired() const { return retired_; }
+  // Before the first frame: one member of an ensemble. Releases what is due, then moves the
+  // input history of every active particle by its own uniform offset in [-jitter, jitter] m per
+  // coordinate (drawn as jitter_active_positions draws them, so the model starts from a
+  // displaced state with its velocities unchanged). Throws std::logic_error after a frame.
+  void jitter_start(double jitter, uint64_t seed);
 
  private:
+  // Gives the active particles `ids` (at `position`, `velocity`) that have no history of their
+  // own the launched history of training.
+  void launch_fresh(const torch::Tensor& ids, const torch::Tensor& position,
+                    const torch::Tensor& velocity);
+
   LearnedSimulator& model_;
   sph::Simulation& sim_;
   torch::Tensor material_, boundary_;
@@ -87,5 +97,8 @@ RolloutResult standalone_rollout(LearnedSimulator& model, const Trajectory& t, i
 // coordinate drawn in particle order from a generator seeded by `seed`; returns each particle's
 // offset [N, 3] (zero for inactive ones). Throws std::invalid_argument for a negative jitter.
 torch::Tensor jitter_active_positions(sph::RecordedFrame& f, double jitter, uint64_t seed);
+// The offsets jitter_active_positions draws for particles flagged in `active` (one per particle
+// id, in id order), zero elsewhere: [N, 3] float32.
+torch::Tensor jitter_offsets(const std::vector<std::uint8_t>& active, double jitter, uint64_t seed);
 
 }  // namespace gnn

@@ -42,6 +42,7 @@ class SpillMetrics {
   const std::vector<SpillFrame>& frames() const { return frames_; }
   // First time oil came within a watch point's radius; absent if it never did.
   std::optional<double> arrival(const std::string& name) const;
+  const std::vector<WatchPointConfig>& watch_points() const { return watch_points_; }
   nlohmann::json to_json() const;
 
  private:
