@@ -41,7 +41,8 @@ nlohmann::json frame_json(const Simulation& sim, const FrameStats& f) {
           {"density_error_max", f.density_error_max},
           {"iterations_density", f.iterations_density},
           {"iterations_divergence", f.iterations_divergence},
-          {"kinetic_energy", sim.kinetic_energy()}};
+          {"kinetic_energy", sim.kinetic_energy()},
+          {"active", sim.fluid().active_count()}};
 }
 
 }  // namespace

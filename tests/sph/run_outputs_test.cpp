@@ -113,13 +113,16 @@ TEST(RunOutputs, WritesTheDataContract) {
   std::ifstream(options.out_dir / "stats.json") >> stats;
   ASSERT_EQ(stats["frames"].size(), frames);
   for (const char* key : {"t", "steps", "density_error_avg", "density_error_max",
-                          "iterations_density", "iterations_divergence", "kinetic_energy"})
+                          "iterations_density", "iterations_divergence", "kinetic_energy",
+                          "active"})
     EXPECT_TRUE(stats["frames"][1].contains(key)) << key;
   for (const char* key : {"wall_s", "steps", "fluid_particles", "particle_steps_per_s"})
     EXPECT_TRUE(stats["summary"].contains(key)) << key;
   for (const char* key : {"neighbour_search", "pressure_solve", "other"})
     EXPECT_TRUE(stats["summary"]["time_split"].contains(key)) << key;
   EXPECT_GT(stats["frames"][5]["kinetic_energy"].get<double>(), 0);  // the block is falling
+  // A dam break neither releases nor retires: every frame has all its particles.
+  EXPECT_EQ(stats["frames"][5]["active"], stats["summary"]["fluid_particles"]);
 
   EXPECT_TRUE(fs::exists(options.out_dir / "ply" / "fluid_00005.ply"));
   EXPECT_TRUE(fs::exists(options.out_dir / "ply" / "boundary.ply"));
