@@ -112,9 +112,9 @@ TEST(RunOutputs, WritesTheDataContract) {
   nlohmann::json stats;
   std::ifstream(options.out_dir / "stats.json") >> stats;
   ASSERT_EQ(stats["frames"].size(), frames);
-  for (const char* key : {"t", "steps", "density_error_avg", "density_error_max",
-                          "iterations_density", "iterations_divergence", "kinetic_energy",
-                          "active"})
+  for (const char* key :
+       {"t", "steps", "density_error_avg", "density_error_max", "iterations_density",
+        "iterations_divergence", "kinetic_energy", "active"})
     EXPECT_TRUE(stats["frames"][1].contains(key)) << key;
   for (const char* key : {"wall_s", "steps", "fluid_particles", "particle_steps_per_s"})
     EXPECT_TRUE(stats["summary"].contains(key)) << key;
