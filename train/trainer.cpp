@@ -3,6 +3,7 @@
 #include <ATen/CPUGeneratorImpl.h>
 
 #include <chrono>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
@@ -10,12 +11,14 @@
 
 #include "common/checked_file.h"
 #include "common/config_visitors.h"
+#include "common/json_file.h"
 #include "common/output_folder.h"
 #include "common/progress.h"
 #include "common/stop_signals.h"
 #include "common/svg_plot.h"
 #include "gnn/data/frame_window.h"
 #include "gnn/eval/rollout.h"
+#include "gnn/eval/standalone_skill.h"
 #include "gnn/training/noise.h"
 
 namespace train {
@@ -23,10 +26,20 @@ namespace fs = std::filesystem;
 
 namespace {
 
-const char* kLogHeader = "step,loss,lr,elapsed_s,steps_per_s,valid_one_step_loss,valid_rollout_mse";
+const char* kLogHeader =
+    "step,loss,lr,elapsed_s,steps_per_s,valid_one_step_loss,valid_rollout_mse,"
+    "valid_standalone_fss";
 
 std::string checkpoint_path(const std::string& dir) {
   return (fs::path(dir) / "last.pt").string();
+}
+
+// best_checkpoint_trajectories: the checkpoint with the best standalone score, and its record.
+fs::path best_path(const std::string& dir) {
+  return fs::path(dir) / "best.pt";
+}
+fs::path best_record_path(const std::string& dir) {
+  return fs::path(dir) / "best.json";
 }
 
 // Keeps the header and the rows up to `step` (rows after the checkpoint are redone on resume).
@@ -132,6 +145,12 @@ void Trainer::take_data(TrainingData data) {
 // The model, its training state and configs from the run's last checkpoint; the run goes on
 // with its own stored configs, only the step count may be raised.
 void Trainer::resume_model(const std::string& last) {
+  // The best standalone score so far, which best.pt has to be beaten by.
+  const fs::path best = best_record_path(options_.out_dir);
+  if (fs::exists(best))
+    best_skill_ = common::load_json_file(best.string(), "the best checkpoint's record")
+                      .at("valid_standalone_fss")
+                      .get<double>();
   auto loaded = gnn::load_checkpoint(last, config_.model_json.value("model", ""));
   gnn::check_data_fits(loaded.data, metadata_, last);
   // A run made before the objectives had sections stores their keys flat: read them as today's.
@@ -309,7 +328,7 @@ void Trainer::load_teacher() {
   for (auto& p : teacher_->parameters()) p.set_requires_grad(false);
 }
 
-void Trainer::validate(double& one_step_loss, double& rollout_mse) {
+void Trainer::validate(double& one_step_loss, double& rollout_mse, double& standalone_skill) {
   torch::NoGradGuard no_grad;
   // Batch normalisation (PAGATNet) uses its running statistics here, as in a rollout.
   simulator_->model().eval();
@@ -350,6 +369,38 @@ void Trainer::validate(double& one_step_loss, double& rollout_mse) {
   auto last = r.position[frames];
   auto truth = t.position[gnn::kWindow - 1 + frames];
   rollout_mse = (last - truth).pow(2).index({r.active[frames]}).mean().item<double>();
+  // The standalone score best.pt is kept by (rank 0 keeps it).
+  standalone_skill = std::nan("");
+  if (c.best_checkpoint_trajectories > 0 && writes()) {
+    double skill = 0;
+    int scored = 0;
+    for (size_t k = 0; k < std::min(valid_.size(), size_t(c.best_checkpoint_trajectories)); ++k) {
+      const double s = gnn::standalone_footprint_skill(*simulator_, valid_[k], metadata_);
+      if (std::isnan(s)) continue;
+      skill += s;
+      ++scored;
+    }
+    if (scored > 0) standalone_skill = skill / scored;
+  }
+}
+
+void Trainer::keep_if_best(double standalone_skill) {
+  if (std::isnan(standalone_skill) || !(standalone_skill > best_skill_) || !writes()) return;
+  best_skill_ = standalone_skill;
+  save(best_path(options_.out_dir).string());
+  common::write_file_atomically(
+      best_record_path(options_.out_dir),
+      nlohmann::json{
+          {"step", state_.step},
+          {"valid_standalone_fss", standalone_skill},
+          {"trajectories",
+           std::min(valid_.size(), size_t(config_.training.best_checkpoint_trajectories))},
+          {"note",
+           "best.pt: the checkpoint whose standalone forecasts of the first `trajectories` valid "
+           "trajectories had the highest mean oil-footprint Fractions Skill Score at 20 cm, 1 s "
+           "and 2 s after each one's first full-history frame (gnn/eval/standalone_skill.h)"}}
+              .dump(2) +
+          "\n");
 }
 
 void Trainer::save(const std::string& path) {
@@ -515,12 +566,14 @@ double Trainer::train_steps() {
       log << state_.step << "," << last_loss << "," << lr << "," << now << ","
           << loss_count / std::max(now - window_start, 1e-9) << ",";
       if (validate_now) {
-        double one_step = 0, rollout = 0;
-        validate(one_step, rollout);
+        double one_step = 0, rollout = 0, skill = 0;
+        validate(one_step, rollout, skill);
         simulator_->model().train();
-        log << one_step << "," << rollout;
+        log << one_step << "," << rollout << ",";
+        if (!std::isnan(skill)) log << skill;
+        keep_if_best(skill);
       } else {
-        log << ",";
+        log << ",,";
       }
       log << "\n";
       if (writes()) common::append_to_file(log_file, log.str());

@@ -84,7 +84,10 @@ class Trainer {
   double gradient_step(double lr);
   std::string open_run_folder() const;
   void stop_if_requested(int64_t kept_step) const;
-  void validate(double& one_step_loss, double& rollout_mse);
+  // `standalone_skill`: the score best.pt is kept by; NaN when off or not scored.
+  void validate(double& one_step_loss, double& rollout_mse, double& standalone_skill);
+  // Saves best.pt and best.json when `standalone_skill` beats the best so far.
+  void keep_if_best(double standalone_skill);
   void save(const std::string& path);
   void write_loss_plot() const;
 
@@ -108,7 +111,8 @@ class Trainer {
   gnn::TrainingState state_;
   std::mt19937_64 sampler_;
   torch::Generator noise_generator_;
-  double collective_s_ = 0;  // time in the data-parallel sums and gradient allreduce
+  double best_skill_ = -1e300;  // best.json's score (resumed with the run)
+  double collective_s_ = 0;     // time in the data-parallel sums and gradient allreduce
   int64_t collective_steps_ = 0;
 };
 

@@ -28,6 +28,7 @@ struct TrainingConfig {
   int validate_every = 500;
   int validation_samples = 8;
   int validation_rollout_frames = 10;
+  int best_checkpoint_trajectories = 0;  // 0: no best.pt
   int checkpoint_every = 500;
   int log_every = 10;
   int seed = 1;
@@ -60,6 +61,12 @@ struct TrainingConfig {
             param("", "frames of the valid split for the one-step loss").at_least(1));
     v.field("validation_rollout_frames", validation_rollout_frames,
             param("", "frames of the validation rollout").at_least(1));
+    v.field("best_checkpoint_trajectories", best_checkpoint_trajectories,
+            param("",
+                  "valid trajectories forecast standalone at every validation; above 0, "
+                  "RUN/best.pt keeps the checkpoint whose forecasts had the best oil-footprint "
+                  "FSS at 20 cm 1 s and 2 s into them (RUN/best.json); 0: none")
+                .non_negative());
     v.field("checkpoint_every", checkpoint_every,
             param("", "steps between checkpoints").at_least(1));
     v.field("log_every", log_every, param("", "steps averaged into one log.csv row").at_least(1));

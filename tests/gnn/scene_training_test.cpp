@@ -15,6 +15,7 @@
 
 #include "gnn/data/dataset.h"
 #include "gnn/data/simulated_dataset.h"
+#include "gnn/eval/standalone_skill.h"
 #include "gnn/training/checkpoint.h"
 #include "sph/generation/dataset_folder.h"
 #include "sph/generation/generation.h"
@@ -188,6 +189,7 @@ TEST_F(SceneTraining, TrainsFromASceneAsOnItsSavedDatasetAndResumes) {
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_NE(r.err.find("trajectory 3/3 (test)"), std::string::npos) << r.err;  // progress
   ASSERT_TRUE(fs::exists(from_scene / "last.pt"));
+  EXPECT_FALSE(fs::exists(from_scene / "best.pt"));  // best_checkpoint_trajectories is 0
   const auto rows = training_log::rows_without_timing(from_scene / "log.csv");
   ASSERT_EQ(rows.size(), 5u);  // header and steps 5, 10, 15, 20
   const gnn::LoadedCheckpoint checkpoint = gnn::load_checkpoint((from_scene / "last.pt").string());
@@ -294,4 +296,46 @@ TEST_F(SceneTraining, BadInputExitsNamingItAndLeavesNoRunFolder) {
   EXPECT_NE(r.err.find("--save-data"), std::string::npos) << r.err;
   EXPECT_FALSE(fs::exists(out));
   EXPECT_EQ(read_json(data / "metadata.json"), nlohmann::json::object());
+}
+
+// best_checkpoint_trajectories: at every validation the model forecasts the valid trajectory
+// standalone and the run keeps the checkpoint whose forecast's oil footprint scored best (FSS at
+// 20 cm, 1 s in), saying which in best.json; the score is the checkpoint's own (best.pt reloaded
+// scores the same forecast again) and the log's column holds every validation's.
+TEST_F(SceneTraining, KeepsTheCheckpointWhoseStandaloneForecastScoredBest) {
+  const fs::path out = dir_ / "run", data = dir_ / "data";
+  const std::string river = std::string(SPILL_SOURCE_DIR) + "/configs/scenes/river_small.json";
+  const Ran r = run(std::string(SPILL_TRAIN_EXE) + " --config " + SPILL_SOURCE_DIR +
+                        "/configs/training/dpi_smoke.json --scene " + river +
+                        " --trajectories 2 --split 0.5/0.5/0 --seed 3"
+                        " --set-scene /leaks/0/start=0.1 --set-scene /leaks/0/duration=0.8"
+                        " --set-scene /end_time=1.6 --threads 1 --set /steps=40"
+                        " --set /validate_every=10 --set /checkpoint_every=20 --set /log_every=10"
+                        " --set /best_checkpoint_trajectories=1 --save-data " +
+                        data.string() + " --out " + out.string(),
+                    dir_);
+  ASSERT_EQ(r.code, 0) << r.err;
+  const std::vector<std::string> scores =
+      training_log::column(out / "log.csv", "valid_standalone_fss");
+  ASSERT_EQ(scores.size(), 4u);  // steps 10, 20, 30, 40
+  double best = -1;
+  int64_t best_step = 0;
+  for (size_t k = 0; k < scores.size(); ++k) {
+    ASSERT_FALSE(scores[k].empty()) << "step " << 10 * (k + 1);
+    const double s = std::stod(scores[k]);
+    EXPECT_GE(s, 0);
+    EXPECT_LE(s, 1);
+    if (s > best) best = s, best_step = int64_t(10 * (k + 1));
+  }
+  const nlohmann::json record = read_json(out / "best.json");
+  EXPECT_EQ(record.at("step"), best_step);
+  EXPECT_NEAR(record.at("valid_standalone_fss").get<double>(), best, 1e-5);  // log: 6 digits
+  gnn::LoadedCheckpoint kept = gnn::load_checkpoint((out / "best.pt").string());
+  EXPECT_EQ(kept.state.step, best_step);
+  kept.simulator->model().eval();
+  const gnn::DatasetMetadata metadata = gnn::read_metadata((data / "metadata.json").string());
+  const auto valid = gnn::read_split(data.string(), "valid", metadata);
+  ASSERT_EQ(valid.size(), 1u);
+  EXPECT_NEAR(gnn::standalone_footprint_skill(*kept.simulator, valid[0], metadata),
+              record.at("valid_standalone_fss").get<double>(), 1e-9);
 }

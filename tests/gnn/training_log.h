@@ -18,10 +18,31 @@ inline std::vector<std::string> rows_without_timing(const std::filesystem::path&
     std::vector<std::string> cells;
     std::stringstream s(line);
     for (std::string c; std::getline(s, c, ',');) cells.push_back(c);
-    while (cells.size() < 7) cells.push_back("");
-    rows.push_back(cells[0] + "," + cells[1] + "," + cells[2] + "," + cells[5] + "," + cells[6]);
+    while (cells.size() < 8) cells.push_back("");
+    rows.push_back(cells[0] + "," + cells[1] + "," + cells[2] + "," + cells[5] + "," + cells[6] +
+                   "," + cells[7]);
   }
   return rows;
+}
+
+// One column of log.csv by its header name: a cell per row ("" where the row has none).
+inline std::vector<std::string> column(const std::filesystem::path& file, const std::string& name) {
+  std::ifstream in(file);
+  std::vector<std::string> out;
+  long index = -1;
+  for (std::string line; std::getline(in, line);) {
+    std::vector<std::string> cells;
+    std::stringstream s(line);
+    for (std::string c; std::getline(s, c, ',');) cells.push_back(c);
+    if (index < 0) {
+      for (size_t k = 0; k < cells.size(); ++k)
+        if (cells[k] == name) index = long(k);
+      if (index < 0) return out;
+      continue;
+    }
+    out.push_back(size_t(index) < cells.size() ? cells[size_t(index)] : "");
+  }
+  return out;
 }
 
 }  // namespace training_log
