@@ -201,7 +201,7 @@ class EnsembleRecorder {
       : scene_(scene),
         first_(first),
         oiling_(scene.particle_diameter(),
-                quarter_frames(std::max(first, leak_frame(scene)), frames)) {}
+                quarter_frames(std::min(std::max(first, leak_frame(scene)), frames - 1), frames)) {}
 
   void start_member() {
     spill_ = sph::river_spill_metrics(scene_);
@@ -245,7 +245,7 @@ class EnsembleRecorder {
          "a member oiled; over the first member's fluid"}};
     common::write_file_atomically(folder / "ensemble.json", summary.dump(2) + "\n");
     const common::FrameRenderer renderer(
-        active_points_of(sim.boundary()),
+        boundary_points(sim.boundary()),
         common::Bounds{sim.domain().min.cast<float>(), sim.domain().max.cast<float>()},
         float(scene_.particle_radius), 480);
     common::write_png((folder / "oiling.png").string(),
@@ -260,7 +260,8 @@ class EnsembleRecorder {
     for (const auto& leak : scene.leaks) start = std::min(start, double(leak.start));
     return int(std::floor(start / sph::shortest_decimal(scene.output.frame_dt)));
   }
-  // A quarter, half, three quarters and all of the way from `first` to `frames`.
+  // A quarter, half, three quarters and all of the way from `first` to `frames` (> first): the
+  // last frame at least, also for a forecast that ends before its leak starts.
   static std::vector<int> quarter_frames(int first, int frames) {
     std::vector<int> out;
     for (int q = 1; q <= 4; ++q) {
@@ -269,7 +270,7 @@ class EnsembleRecorder {
     }
     return out;
   }
-  static std::vector<common::Point> active_points_of(const sph::BoundaryParticles& b) {
+  static std::vector<common::Point> boundary_points(const sph::BoundaryParticles& b) {
     std::vector<common::Point> out(b.size());
     for (sph::Index i = 0; i < b.size(); ++i) out[i] = b.position[i].cast<float>();
     return out;

@@ -183,6 +183,22 @@ TEST(PredictMembers, FirstMemberIsTheForecastAndTheSummaryIsTheMembers) {
   fs::remove_all(dir);
 }
 
+// A forecast that ends before its leak starts still has an ensemble: no oil anywhere, and the
+// oiling picture at its last frame.
+TEST(PredictMembers, AForecastEndingBeforeTheLeakHasAnEnsembleWithoutOil) {
+  const fs::path dir = temp_dir("before_leak");
+  infer::PredictOptions o = short_leak(dir / "out", 2);
+  o.overrides = {"/leaks/0/start=1.0", "/end_time=0.5"};
+  infer::run_predict(o);
+  const nlohmann::json ensemble = read_json(dir / "out" / "ensemble.json");
+  const std::vector<double> moments = ensemble["oiling_png"]["t"];
+  ASSERT_EQ(moments.size(), 1u);
+  EXPECT_NEAR(moments.front(), 0.5, 1e-9);
+  EXPECT_EQ(ensemble["front_m"].back()["q90"].get<double>(), 0);  // no oil, no front
+  EXPECT_TRUE(fs::exists(dir / "out" / "oiling.png"));
+  fs::remove_all(dir);
+}
+
 // An ensemble summarises a river leak's metrics: a scene without one is refused before anything
 // is written.
 TEST(PredictMembers, RefusesASceneWithoutARiverLeak) {
