@@ -16,17 +16,6 @@
 
 namespace gnn {
 
-namespace {
-
-// out = x + bias row by row, in place.
-void add_bias(float* x, const float* bias, int64_t rows, int64_t width) {
-  for (int64_t r = 0; r < rows; ++r, x += width)
-#pragma omp simd
-    for (int64_t c = 0; c < width; ++c) x[c] += bias[c];
-}
-
-}  // namespace
-
 bool DpiModel::can_propagate_in_chunks(const GraphInput& g, const EdgeOrder& order) const {
   return !torch::GradMode::is_enabled() && order.canonical && g.edge_features.is_cpu() &&
          g.edge_features.scalar_type() == torch::kFloat32 &&

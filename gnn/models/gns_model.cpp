@@ -95,58 +95,6 @@ GnsModel::Latents GnsModel::process(Latents x, const GraphInput& g,
   return {v, e};
 }
 
-namespace {
-
-// out = LayerNorm(x + bias) row by row, in one pass over x (no autograd).
-// With `accumulate` the result is added to `out` (a residual), otherwise written to it.
-void add_bias_layer_norm(const float* x, const float* bias, const float* gamma, const float* beta,
-                         double eps, float* out, int64_t rows, int64_t width,
-                         bool accumulate = false) {
-  for (int64_t r = 0; r < rows; ++r, x += width, out += width) {
-    // omp simd: lets the compiler vectorise the sums (it may not reorder float additions
-    // otherwise).
-    float mean = 0;
-#pragma omp simd reduction(+ : mean)
-    for (int64_t c = 0; c < width; ++c) mean += x[c] + bias[c];
-    mean /= float(width);
-    float var = 0;
-#pragma omp simd reduction(+ : var)
-    for (int64_t c = 0; c < width; ++c) {
-      const float d = x[c] + bias[c] - mean;
-      var += d * d;
-    }
-    const float inv = 1.0f / std::sqrt(var / float(width) + float(eps));
-    if (accumulate)
-      for (int64_t c = 0; c < width; ++c)
-        out[c] += (x[c] + bias[c] - mean) * inv * gamma[c] + beta[c];
-    else
-      for (int64_t c = 0; c < width; ++c)
-        out[c] = (x[c] + bias[c] - mean) * inv * gamma[c] + beta[c];
-  }
-}
-
-// The rest of an MLP on one chunk of rows: `x` holds its first layer's activated output, `y` is
-// scratch of the same shape; the LayerNorm'ed result is written to `out` (added with
-// `accumulate`).
-void finish_mlp_chunk(MlpImpl& mlp, torch::Tensor x, torch::Tensor y, float* out, bool accumulate) {
-  const int64_t rows = x.size(0), width = x.size(1);
-  auto norm = mlp.norm();
-  for (size_t l = 1; l < mlp.linears(); ++l) {
-    auto layer = mlp.linear(l);
-    at::mm_out(y, x, layer->weight.t());
-    if (l + 1 < mlp.linears()) {
-      add_bias_relu(y.data_ptr<float>(), layer->bias.data_ptr<float>(), rows, width);
-      std::swap(x, y);
-    } else {
-      add_bias_layer_norm(y.data_ptr<float>(), layer->bias.data_ptr<float>(),
-                          norm->weight.data_ptr<float>(), norm->bias.data_ptr<float>(),
-                          norm->options.eps(), out, rows, width, accumulate);
-    }
-  }
-}
-
-}  // namespace
-
 torch::Tensor GnsModel::rows_times_transposed(const torch::Tensor& x_in, const torch::Tensor& w) {
   auto x = x_in.contiguous();
   auto out = torch::empty({x.size(0), w.size(0)}, x.options());

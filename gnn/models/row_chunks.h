@@ -1,15 +1,18 @@
 #pragma once
 // Row chunks for the fused CPU passes of GNS (inference in gns_model.cpp, training in
-// gns_processor_step.cpp) and of DPI-Nets (inference in dpi_inference.cpp): an MLP's
-// intermediates for one chunk of rows (kChunk x latent floats) stay in the core's L2 cache
-// between its matrix products and its element-wise passes.
+// gns_processor_step.cpp), of DPI-Nets (inference in dpi_inference.cpp) and of PAGATNet's AGNB
+// blocks (inference in pagat/agnb_inference.cpp): an MLP's intermediates for one chunk of rows
+// (kChunk x latent floats) stay in the core's L2 cache between its matrix products and its
+// element-wise passes.
 
 #include <torch/torch.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 
 #include "gnn/graph/segment_ops.h"
+#include "gnn/models/mlp.h"
 #include "gnn/runtime/runtime.h"
 
 namespace gnn {
@@ -40,6 +43,13 @@ inline void add_bias_relu(float* x, const float* bias, int64_t rows, int64_t wid
     for (int64_t c = 0; c < width; ++c) x[c] = std::max(x[c] + bias[c], 0.0f);
 }
 
+// out = x + bias row by row, in place.
+inline void add_bias(float* x, const float* bias, int64_t rows, int64_t width) {
+  for (int64_t r = 0; r < rows; ++r, x += width)
+#pragma omp simd
+    for (int64_t c = 0; c < width; ++c) x[c] += bias[c];
+}
+
 // out[r] = a[ia[r]] + b[ib[r]] for rows of `width` floats: both gathers and their sum in one pass.
 inline void gather_pair_sum(const float* a, const float* b, const int64_t* ia, const int64_t* ib,
                             float* out, int64_t rows, int64_t width) {
@@ -64,6 +74,55 @@ inline void edge_first_layer_chunk(torch::Tensor& x, const torch::Tensor& receiv
                   x.data_ptr<float>(), rows, x.size(1));
   x.addmm_(edges.slice(0, c0, c0 + rows), weight.t());
   x.relu_();
+}
+
+// out = LayerNorm(x + bias) row by row, in one pass over x (no autograd).
+// With `accumulate` the result is added to `out` (a residual), otherwise written to it.
+inline void add_bias_layer_norm(const float* x, const float* bias, const float* gamma,
+                                const float* beta, double eps, float* out, int64_t rows,
+                                int64_t width, bool accumulate = false) {
+  for (int64_t r = 0; r < rows; ++r, x += width, out += width) {
+    // omp simd: lets the compiler vectorise the sums (it may not reorder float additions
+    // otherwise).
+    float mean = 0;
+#pragma omp simd reduction(+ : mean)
+    for (int64_t c = 0; c < width; ++c) mean += x[c] + bias[c];
+    mean /= float(width);
+    float var = 0;
+#pragma omp simd reduction(+ : var)
+    for (int64_t c = 0; c < width; ++c) {
+      const float d = x[c] + bias[c] - mean;
+      var += d * d;
+    }
+    const float inv = 1.0f / std::sqrt(var / float(width) + float(eps));
+    if (accumulate)
+      for (int64_t c = 0; c < width; ++c)
+        out[c] += (x[c] + bias[c] - mean) * inv * gamma[c] + beta[c];
+    else
+      for (int64_t c = 0; c < width; ++c)
+        out[c] = (x[c] + bias[c] - mean) * inv * gamma[c] + beta[c];
+  }
+}
+
+// The rest of an MLP on one chunk of rows: `x` holds its first layer's activated output, `y` is
+// scratch of the same shape; the LayerNorm'ed result is written to `out` (added with
+// `accumulate`).
+inline void finish_mlp_chunk(MlpImpl& mlp, torch::Tensor x, torch::Tensor y, float* out,
+                             bool accumulate) {
+  const int64_t rows = x.size(0), width = x.size(1);
+  auto norm = mlp.norm();
+  for (size_t l = 1; l < mlp.linears(); ++l) {
+    auto layer = mlp.linear(l);
+    at::mm_out(y, x, layer->weight.t());
+    if (l + 1 < mlp.linears()) {
+      add_bias_relu(y.data_ptr<float>(), layer->bias.data_ptr<float>(), rows, width);
+      std::swap(x, y);
+    } else {
+      add_bias_layer_norm(y.data_ptr<float>(), layer->bias.data_ptr<float>(),
+                          norm->weight.data_ptr<float>(), norm->bias.data_ptr<float>(),
+                          norm->options.eps(), out, rows, width, accumulate);
+    }
+  }
 }
 
 }  // namespace gnn

@@ -25,6 +25,7 @@ TypedGraph typed_graph(const torch::Tensor& edge_index, const torch::Tensor& lin
   g.order = edge_order(edge_index, nodes);
   const auto cpu_types = edges_by_link_type(link_type.cpu(), edge_index[1].cpu(), nodes);
   const auto device = edge_index.device();
+  g.link_type = link_type.to(torch::kInt64).contiguous();
   for (size_t t = 0; t < size_t(kLinkTypes); ++t) {
     g.types[t] = {cpu_types[t].edges.to(device), cpu_types[t].offsets.to(device)};
     g.receivers[t] = edge_index[1].index_select(0, g.types[t].edges);
@@ -104,6 +105,7 @@ torch::Tensor AgnbBlock::scores(size_t t, const torch::Tensor& h, const torch::T
 }
 
 BlockLatents AgnbBlock::forward(const BlockLatents& in, const TypedGraph& g) {
+  if (can_run_in_chunks(in, g)) return forward_in_chunks(in, g);
   const auto& v = in.nodes;
   const auto& e = in.edges;
   const int64_t n = v.size(0), L = latent_;

@@ -29,6 +29,8 @@
 // CPU cost: as in GNS, a first layer on [e_ab, v_a, v_b] is computed as W_e e_ab + (W_a v)[a] +
 // (W_b v)[b] (per-node projections gathered to the edges, not an [E, 3L] product: E is ~8 n),
 // and so are the attention's W_T,src h_b and W_T,dst h_a; only W_T,e e'_ab is per edge.
+// Inference (no autograd, eval mode, float32 on the CPU, edges sorted by receiver) takes a fused
+// path, pagat/agnb_inference.cpp: the same function in row chunks and one pass per receiver.
 //
 // GN block ("processor": "gn", plain GN blocks instead of AGNB): GNS's interaction step,
 //   e <- e + MLP([e_ab, v_a, v_b]),  v <- v + MLP([v_a, sum_b e_ab]),  LayerNorm on both MLPs.
@@ -49,6 +51,7 @@ struct TypedGraph {
   std::array<TypedEdges, kLinkTypes> types;         // its edges by link type, CSR by receiver
   std::array<torch::Tensor, kLinkTypes> receivers;  // each type's edges' receivers [E_T]
   std::array<torch::Tensor, kLinkTypes> senders;    // and senders [E_T]
+  torch::Tensor link_type;                          // [E] int64, contiguous: every edge's link type
   torch::Tensor physics_bias;  // [E, heads] attention biases, undefined when the module is off
   int64_t nodes = 0;
 };
@@ -75,6 +78,8 @@ class NormalisedMlpImpl : public torch::nn::Module {
   // The rest after the first Linear was applied (its pre-activation output).
   torch::Tensor forward_after_first(const torch::Tensor& first_pre_activation);
   torch::nn::Linear first() { return mlp_->first(); }
+  Mlp mlp() { return mlp_; }
+  torch::nn::LayerNorm norm() { return norm_; }
   double flops_per_row() const { return mlp_->flops_per_row(); }
 
  private:
@@ -89,8 +94,12 @@ class AgnbBlock : public ProcessorBlock {
   AgnbBlock(int64_t latent, int64_t heads, int hidden_layers, bool content_attention = true);
   BlockLatents forward(const BlockLatents& in, const TypedGraph& graph) override;
   double flops(int64_t nodes, int64_t edges) const override;
+  // Whether forward takes the fused inference path (agnb_inference.cpp) on these inputs: no
+  // autograd, eval mode, float32 on the CPU, edges sorted by receiver and symmetric.
+  bool can_run_in_chunks(const BlockLatents& in, const TypedGraph& graph) const;
 
  private:
+  BlockLatents forward_in_chunks(const BlockLatents& in, const TypedGraph& graph);
   // BN over the rows; a batch of one row or none in training uses the running statistics
   // (batch statistics of a single row are undefined).
   torch::Tensor batch_norm(torch::nn::BatchNorm1d& bn, const torch::Tensor& x);
