@@ -14,19 +14,10 @@ import json
 import os
 import platform
 import shutil
-import subprocess
 import sys
 import tempfile
-import time
 
-
-def timed(command):
-    start = time.monotonic()
-    done = subprocess.run(command, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
-    wall = time.monotonic() - start
-    if done.returncode != 0:
-        sys.exit("failed (exit %d): %s\n%s" % (done.returncode, " ".join(command), done.stderr))
-    return wall
+from bench_runs import end_state, summary_of, timed
 
 
 def main():
@@ -46,28 +37,20 @@ def main():
     walls = {"spill-sim run": []}
     for c in a.checkpoints:
         walls["predict " + c] = []
-    # Each side's active particles at the end and the inflow layers it skipped: a forecast that
-    # drains the river does less work and would flatter its time.
-    ends = {}
-
-    def record_end(name, out):
-        with open(os.path.join(out, "stats.json")) as f:
-            summary = json.load(f)["summary"]
-        ends[name] = {"active_at_end": summary["fluid_particles"],
-                      "skipped_inflow_layers": summary.get("flow", {}).get("skipped_inflow_layers", 0)}
+    ends = {}  # each side's end state (bench_runs.end_state)
 
     try:
         for r in range(a.repeats):
             out = os.path.join(work, "sim%d" % r)
             walls["spill-sim run"].append(timed([sim, "run", "--scene", a.scene, "--out", out,
                                                  "--threads", str(a.threads)] + overrides))
-            record_end("spill-sim run", out)
+            ends["spill-sim run"] = end_state(summary_of(out))
             for k, c in enumerate(a.checkpoints):
                 out = os.path.join(work, "predict%d_%d" % (r, k))
                 walls["predict " + c].append(
                     timed([infer, "predict", "--checkpoint", c, "--scene", a.scene, "--out", out,
                            "--threads", str(a.threads)] + overrides))
-                record_end("predict " + c, out)
+                ends["predict " + c] = end_state(summary_of(out))
     finally:
         shutil.rmtree(work, ignore_errors=True)
     mean = {k: sum(v) / len(v) for k, v in walls.items()}
