@@ -86,7 +86,6 @@ class DpiModel : public GraphModel {
   double flops(int64_t nodes, int64_t edges) const override;
   // Inference runs in row chunks side by side (dpi_inference.cpp), as GNS's does, BLAS on one.
   bool infers_on_one_blas_thread() const override { return true; }
-  const DpiConfig& dpi_config() const { return config_; }
 
   // The decoder's output alone, the normalised next velocity u [n, 3], for a checked graph
   // (needs no normalisation statistics).

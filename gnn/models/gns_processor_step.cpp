@@ -26,21 +26,13 @@ struct InputLayout {
   int64_t count() const { return 8 + 4 * m; }
 };
 
-// LayerNorm of z + bias per row: z becomes the normalised values, rstd[r] 1/std, y the output.
-void add_bias_layer_norm(float* z, const float* bias, const float* gamma, const float* beta,
-                         float eps, float* rstd, float* y, int64_t rows, int64_t width) {
+// LayerNorm of z + bias per row, keeping what the backward pass needs: z becomes the
+// normalised values, rstd[r] 1/std, y the output.
+void add_bias_layer_norm_for_backward(float* z, const float* bias, const float* gamma,
+                                      const float* beta, float eps, float* rstd, float* y,
+                                      int64_t rows, int64_t width) {
   for (int64_t r = 0; r < rows; ++r, z += width, y += width) {
-    float mean = 0;
-#pragma omp simd reduction(+ : mean)
-    for (int64_t c = 0; c < width; ++c) mean += z[c] + bias[c];
-    mean /= float(width);
-    float var = 0;
-#pragma omp simd reduction(+ : var)
-    for (int64_t c = 0; c < width; ++c) {
-      const float d = z[c] + bias[c] - mean;
-      var += d * d;
-    }
-    const float inv = 1.0f / std::sqrt(var / float(width) + eps);
+    const auto [mean, inv] = layer_norm_statistics(z, bias, width, eps);
     rstd[r] = inv;
 #pragma omp simd
     for (int64_t c = 0; c < width; ++c) {
@@ -150,7 +142,7 @@ MlpSaved mlp_forward(const variable_list& in, const InputLayout& lo, bool edge, 
         if (!last) {
           add_bias_relu(out.data_ptr<float>(), bias, n, L);
         } else {
-          add_bias_layer_norm(
+          add_bias_layer_norm_for_backward(
               out.data_ptr<float>(), bias, in[size_t(lo.gamma(edge))].data_ptr<float>(),
               in[size_t(lo.beta(edge))].data_ptr<float>(), eps, saved.rstd.data_ptr<float>() + c0,
               y.data_ptr<float>() + c0 * L, n, L);

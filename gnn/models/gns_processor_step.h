@@ -28,7 +28,7 @@
 #include <utility>
 
 #include "gnn/graph/segment_ops.h"
-#include "gnn/models/gns_model.h"
+#include "gnn/models/mlp.h"
 
 namespace gnn {
 

@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <utility>
 
 #include "gnn/graph/segment_ops.h"
 #include "gnn/models/mlp.h"
@@ -76,25 +77,31 @@ inline void edge_first_layer_chunk(torch::Tensor& x, const torch::Tensor& receiv
   x.relu_();
 }
 
+// LayerNorm's statistics of one row of x + bias: its mean and 1 / its standard deviation.
+inline std::pair<float, float> layer_norm_statistics(const float* x, const float* bias,
+                                                     int64_t width, float eps) {
+  // omp simd: lets the compiler vectorise the sums (it may not reorder float additions
+  // otherwise).
+  float mean = 0;
+#pragma omp simd reduction(+ : mean)
+  for (int64_t c = 0; c < width; ++c) mean += x[c] + bias[c];
+  mean /= float(width);
+  float var = 0;
+#pragma omp simd reduction(+ : var)
+  for (int64_t c = 0; c < width; ++c) {
+    const float d = x[c] + bias[c] - mean;
+    var += d * d;
+  }
+  return {mean, 1.0f / std::sqrt(var / float(width) + eps)};
+}
+
 // out = LayerNorm(x + bias) row by row, in one pass over x (no autograd).
 // With `accumulate` the result is added to `out` (a residual), otherwise written to it.
 inline void add_bias_layer_norm(const float* x, const float* bias, const float* gamma,
                                 const float* beta, double eps, float* out, int64_t rows,
                                 int64_t width, bool accumulate = false) {
   for (int64_t r = 0; r < rows; ++r, x += width, out += width) {
-    // omp simd: lets the compiler vectorise the sums (it may not reorder float additions
-    // otherwise).
-    float mean = 0;
-#pragma omp simd reduction(+ : mean)
-    for (int64_t c = 0; c < width; ++c) mean += x[c] + bias[c];
-    mean /= float(width);
-    float var = 0;
-#pragma omp simd reduction(+ : var)
-    for (int64_t c = 0; c < width; ++c) {
-      const float d = x[c] + bias[c] - mean;
-      var += d * d;
-    }
-    const float inv = 1.0f / std::sqrt(var / float(width) + float(eps));
+    const auto [mean, inv] = layer_norm_statistics(x, bias, width, float(eps));
     if (accumulate)
       for (int64_t c = 0; c < width; ++c)
         out[c] += (x[c] + bias[c] - mean) * inv * gamma[c] + beta[c];
