@@ -1,5 +1,6 @@
 """What the whole-process speed benchmarks (predict_bench.py, ensemble_speed_bench.py) share:
 timing a program run to its exit, and reading the end state a run folder's stats.json records."""
+import argparse
 import json
 import os
 import subprocess
@@ -28,3 +29,20 @@ def end_state(summary):
     does less work and would flatter its time."""
     return {"active_at_end": summary["fluid_particles"],
             "skipped_inflow_layers": summary.get("flow", {}).get("skipped_inflow_layers", 0)}
+
+
+def argument_parser(description, root):
+    """The options both benchmarks take: the scene, the checkpoints, scene overrides for both
+    sides, the threads and the build folder holding spill-sim and spill-infer."""
+    p = argparse.ArgumentParser(description=description)
+    p.add_argument("--scene", required=True)
+    p.add_argument("--checkpoints", nargs="+", required=True)
+    p.add_argument("--set", nargs="*", default=[], help="scene overrides for both sides")
+    p.add_argument("--threads", type=int, default=2)
+    p.add_argument("--build", default=os.path.join(root, "build"))
+    return p
+
+
+def programs(build):
+    """The paths of spill-sim and spill-infer in a build folder."""
+    return os.path.join(build, "sph", "spill-sim"), os.path.join(build, "infer", "spill-infer")

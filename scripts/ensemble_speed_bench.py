@@ -13,7 +13,6 @@ simulator's (the issue's bar for a forecast worth running is at most a third).
   python3 scripts/ensemble_speed_bench.py --scene configs/scenes/river_case1.json \\
       --set /output/frame_dt=0.2 --checkpoints docs/results/crossover_runs/dpi_f40.pt --members 8
 """
-import argparse
 import json
 import os
 import platform
@@ -21,23 +20,17 @@ import shutil
 import sys
 import tempfile
 
-from bench_runs import end_state, summary_of, timed
+from bench_runs import argument_parser, end_state, programs, summary_of, timed
 
 
 def main():
     root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-    p = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    p.add_argument("--scene", required=True)
-    p.add_argument("--checkpoints", nargs="+", required=True)
-    p.add_argument("--set", nargs="*", default=[], help="scene overrides for both sides")
+    p = argument_parser(__doc__.split("\n")[0], root)
     p.add_argument("--members", type=int, default=8)
-    p.add_argument("--threads", type=int, default=2)
-    p.add_argument("--build", default=os.path.join(root, "build"))
     a = p.parse_args()
     if a.members < 2:
         sys.exit("--members must be at least 2")
-    sim = os.path.join(a.build, "sph", "spill-sim")
-    infer = os.path.join(a.build, "infer", "spill-infer")
+    sim, infer = programs(a.build)
     overrides = ["--set"] + a.set if a.set else []
     work = tempfile.mkdtemp(prefix="ensemble_speed_")
     sim_walls, sim_end = [], None

@@ -9,7 +9,6 @@ model's mean over the simulator's (below 1/3 is the issue's bar for a forecast w
   python3 scripts/predict_bench.py --scene configs/scenes/river_small.json \
       --checkpoints docs/results/baselines/dpi.pt docs/results/baselines/gns.pt --repeats 3
 """
-import argparse
 import json
 import os
 import platform
@@ -17,21 +16,15 @@ import shutil
 import sys
 import tempfile
 
-from bench_runs import end_state, summary_of, timed
+from bench_runs import argument_parser, end_state, programs, summary_of, timed
 
 
 def main():
     root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-    p = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    p.add_argument("--scene", required=True)
-    p.add_argument("--checkpoints", nargs="+", required=True)
-    p.add_argument("--set", nargs="*", default=[], help="scene overrides for both sides")
+    p = argument_parser(__doc__.split("\n")[0], root)
     p.add_argument("--repeats", type=int, default=3)
-    p.add_argument("--threads", type=int, default=2)
-    p.add_argument("--build", default=os.path.join(root, "build"))
     a = p.parse_args()
-    sim = os.path.join(a.build, "sph", "spill-sim")
-    infer = os.path.join(a.build, "infer", "spill-infer")
+    sim, infer = programs(a.build)
     work = tempfile.mkdtemp(prefix="predict_bench_")
     overrides = ["--set"] + a.set if a.set else []
     walls = {"spill-sim run": []}
