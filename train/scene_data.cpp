@@ -8,6 +8,7 @@
 #include "common/json_file.h"
 #include "gnn/data/frame_window.h"
 #include "gnn/data/simulated_dataset.h"
+#include "train/pushforward.h"
 #include "train/training_config.h"
 
 namespace train {
@@ -44,12 +45,12 @@ TrainingData simulate_training_data(const SceneDataOptions& options, const Train
   // fewer recorded frames every trajectory would be simulated only to be refused afterwards.
   const int needed =
       int(gnn::kWindow) + 1 +
-      load_training_config(run.config_file, run.overrides).training.pushforward_steps;
+      most_pushforward_frames(load_training_config(run.config_file, run.overrides).training);
   if (g.frames > 0 && g.frames < needed)
     throw common::InputError("--frames " + std::to_string(g.frames) + ": a training window needs " +
                              std::to_string(needed) + " frames of each trajectory (" +
                              std::to_string(gnn::kWindow) +
-                             " positions, the target and the config's pushforward_steps); "
+                             " positions, the target and the config's longest pushforward); "
                              "nothing was simulated");
   nlohmann::json description = {{"scene", fs::absolute(g.scene_file).lexically_normal().string()},
                                 {"generation", sph::generation_settings(g)}};

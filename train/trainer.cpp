@@ -20,6 +20,7 @@
 #include "gnn/eval/rollout.h"
 #include "gnn/eval/standalone_skill.h"
 #include "gnn/training/noise.h"
+#include "train/pushforward.h"
 
 namespace train {
 namespace fs = std::filesystem;
@@ -131,7 +132,7 @@ void Trainer::take_data(TrainingData data) {
                             (train_.empty() ? "training" : "validation") +
                             " trajectories (training needs at least one of each)");
   for (const auto& t : train_)
-    if (t.frames() < gnn::kWindow + 1 + config_.training.pushforward_steps)
+    if (t.frames() < gnn::kWindow + 1 + most_pushforward_frames(config_.training))
       throw gnn::DatasetError(t.source + ": too few frames for a training window");
   // Validation takes a window and the frame after it (it once crashed at the first validation
   // with a LibTorch backtrace on shorter trajectories).
@@ -256,7 +257,7 @@ void Trainer::choose_objective() {
 
 TrainingBatch Trainer::sample_batch() {
   const auto& c = config_.training;
-  const int64_t push = c.pushforward_steps;
+  const int64_t push = pushforward_frames(c, state_.step, sampler_);
   std::vector<gnn::GraphInput> graphs;
   std::vector<torch::Tensor> targets, masks, fraction_targets;
   const int world = options_.parallel ? options_.parallel->world() : 1;

@@ -6,6 +6,7 @@
 #include "common/config_visitors.h"
 #include "common/json_file.h"
 #include "gnn/models/graph_model.h"
+#include "train/pushforward.h"
 
 namespace train {
 
@@ -24,6 +25,7 @@ ResolvedConfig load_training_config(const std::string& file,
   gnn::move_flat_objective_keys(j, file);
   ResolvedConfig out;
   common::JsonReader::read_struct(j, file, "", out.training);
+  check_pushforward(out.training, file);
   out.training_json = common::JsonWriter::write_struct(out.training);
   out.training_json["model"] = model_overrides;
   out.model_file =

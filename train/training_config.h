@@ -16,6 +16,26 @@
 
 namespace train {
 
+// One stage of a pushforward schedule (train/pushforward.h): from training step `from_step` on,
+// a batch may be unrolled `unrolls` frames, drawn with `weight` among the stages open so far.
+struct PushforwardStage {
+  int from_step = 0;
+  int unrolls = 0;
+  double weight = 1;
+
+  template <class V>
+  void describe(V& v) {
+    using common::param;
+    v.field("from_step", from_step,
+            param("", "training step from which this stage may be drawn").non_negative());
+    v.field("unrolls", unrolls,
+            param("", "frames unrolled without gradient when this stage is drawn")
+                .non_negative()
+                .at_most(3));
+    v.field("weight", weight, param("", "relative chance among the stages open").positive());
+  }
+};
+
 struct TrainingConfig {
   std::string description;   // what the config is for (a note to its reader; never compared)
   std::string model_config;  // path, relative to the training config's folder
@@ -25,6 +45,7 @@ struct TrainingConfig {
   double lr_min = 1e-6;
   int decay_steps = 5000000;
   int pushforward_steps = 0;
+  std::vector<PushforwardStage> pushforward_schedule;  // empty: pushforward_steps every batch
   int validate_every = 500;
   int validation_samples = 8;
   int validation_rollout_frames = 10;
@@ -56,6 +77,11 @@ struct TrainingConfig {
             param("", "frames unrolled without gradient before the loss frame")
                 .non_negative()
                 .at_most(3));
+    v.field("pushforward_schedule", pushforward_schedule,
+            param("",
+                  "LagrangeBench's pushforward schedule instead of a fixed count: stages "
+                  "{from_step, unrolls, weight}, the first from step 0, in step order; each "
+                  "batch's unroll count is drawn from the stages open at its step"));
     v.field("validate_every", validate_every, param("", "steps between validations").at_least(1));
     v.field("validation_samples", validation_samples,
             param("", "frames of the valid split for the one-step loss").at_least(1));

@@ -291,6 +291,29 @@ TEST(Training, ResumeEqualsAnUninterruptedRun) {
   EXPECT_EQ(training_log::rows_without_timing(split / "log.csv"), b) << "the run is untouched";
 }
 
+// With a pushforward schedule whose longer unrolls open mid-run, a run interrupted before they
+// open resumes as the uninterrupted run (the draws come from the checkpointed sampler), and the
+// schedule does change what is trained (its log is not the plain run's).
+TEST(Training, APushforwardScheduleResumesAsTheUninterruptedRun) {
+  Tiny data("resume_pushforward");
+  const std::vector<std::string> schedule = {
+      "/validate_every=20", "/checkpoint_every=20", "/log_every=5",
+      R"(/pushforward_schedule=[{"from_step":0,"unrolls":0,"weight":1},)"
+      R"({"from_step":15,"unrolls":2,"weight":1},{"from_step":25,"unrolls":3,"weight":1}])"};
+  const fs::path straight = data.dir / "straight", split = data.dir / "split",
+                 plain = data.dir / "plain";
+  train::Trainer(options(data, straight, 40, schedule)).run();
+  train::Trainer(options(data, split, 20, schedule)).run();
+  auto resumed = options(data, split, 40, schedule);
+  resumed.resume = true;
+  train::Trainer(resumed).run();
+  train::Trainer(options(data, plain, 40, {schedule.begin(), schedule.end() - 1})).run();
+  const auto a = training_log::rows_without_timing(straight / "log.csv");
+  ASSERT_EQ(a.size(), 9u);  // header + 8 rows
+  EXPECT_EQ(a, training_log::rows_without_timing(split / "log.csv"));
+  EXPECT_NE(a, training_log::rows_without_timing(plain / "log.csv"));
+}
+
 // A run made before the objectives had sections stores their keys flat in its checkpoint (as the
 // committed docs/results checkpoints do): it resumes with today's config, its objective keys
 // given in their section or flat, and continues as the uninterrupted run; another value of one
