@@ -16,7 +16,7 @@
 
 int main(int argc, char** argv) {
   common::skip_hdf5_exit_handler();
-  CLI::App app{"Train a learned particle simulator (GNS) on spill trajectories"};
+  CLI::App app{"Train a learned particle simulator (GNS, DPI-Nets, PAGATNet) on spill data"};
   train::TrainCommandLine command;
   train::add_training_options(app, command);
   if (const auto stop = common::parse_command_line(app, argc, argv)) return *stop;

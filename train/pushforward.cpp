@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "common/config_error.h"
+#include "gnn/data/frame_window.h"
 
 namespace train {
 
@@ -10,6 +11,10 @@ int most_pushforward_frames(const TrainingConfig& config) {
   int most = config.pushforward_steps;
   for (const auto& stage : config.pushforward_schedule) most = std::max(most, stage.unrolls);
   return most;
+}
+
+int frames_per_window(const TrainingConfig& config) {
+  return int(gnn::kWindow) + most_pushforward_frames(config) + config.loss_frames;
 }
 
 int pushforward_frames(const TrainingConfig& config, int64_t step, std::mt19937_64& sampler) {

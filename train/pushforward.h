@@ -17,6 +17,10 @@ namespace train {
 // The most frames any window may be unrolled (what the data's trajectories must leave room for).
 int most_pushforward_frames(const TrainingConfig& config);
 
+// The recorded frames a training window reads: the input window, the frames pushed forward and
+// one target per loss frame.
+int frames_per_window(const TrainingConfig& config);
+
 // The unroll count of the batch at `step`: the fixed count, or one stage's count drawn from the
 // stages open at `step` with their weights. Draws from `sampler` only when a schedule is set, so
 // that runs without one keep their random streams.

@@ -41,16 +41,15 @@ TrainingData simulate_training_data(const SceneDataOptions& options, const Train
         " gives " + std::to_string(counts[0]) + " training and " + std::to_string(counts[1]) +
         " validation trajectories; training needs at least one of each");
   }
-  // A training window takes kWindow positions, the target frame and the pushforward frames: with
-  // fewer recorded frames every trajectory would be simulated only to be refused afterwards.
+  // A training window takes kWindow positions, the pushforward frames and a target per loss frame:
+  // with fewer recorded frames every trajectory would be simulated only to be refused afterwards.
   const int needed =
-      int(gnn::kWindow) + 1 +
-      most_pushforward_frames(load_training_config(run.config_file, run.overrides).training);
+      frames_per_window(load_training_config(run.config_file, run.overrides).training);
   if (g.frames > 0 && g.frames < needed)
     throw common::InputError("--frames " + std::to_string(g.frames) + ": a training window needs " +
                              std::to_string(needed) + " frames of each trajectory (" +
                              std::to_string(gnn::kWindow) +
-                             " positions, the target and the config's longest pushforward); "
+                             " positions, the config's longest pushforward and its loss frames); "
                              "nothing was simulated");
   nlohmann::json description = {{"scene", fs::absolute(g.scene_file).lexically_normal().string()},
                                 {"generation", sph::generation_settings(g)}};

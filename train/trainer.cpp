@@ -132,7 +132,7 @@ void Trainer::take_data(TrainingData data) {
                             (train_.empty() ? "training" : "validation") +
                             " trajectories (training needs at least one of each)");
   for (const auto& t : train_)
-    if (t.frames() < gnn::kWindow + 1 + most_pushforward_frames(config_.training))
+    if (t.frames() < frames_per_window(config_.training))
       throw gnn::DatasetError(t.source + ": too few frames for a training window");
   // Validation takes a window and the frame after it (it once crashed at the first validation
   // with a LibTorch backtrace on shorter trajectories).
@@ -255,21 +255,23 @@ void Trainer::choose_objective() {
   }
 }
 
-TrainingBatch Trainer::sample_batch() {
+std::vector<LossWindow> Trainer::sample_windows() {
   const auto& c = config_.training;
   const int64_t push = pushforward_frames(c, state_.step, sampler_);
-  std::vector<gnn::GraphInput> graphs;
-  std::vector<torch::Tensor> targets, masks, fraction_targets;
+  const int64_t frames_after = c.loss_frames;  // recorded frames each window's loss reads
+  std::vector<LossWindow> windows;
   const int world = options_.parallel ? options_.parallel->world() : 1;
   const int rank = options_.parallel ? options_.parallel->rank() : 0;
   for (int b = 0; b < c.batch_size; ++b) {
     const auto& t = train_[std::uniform_int_distribution<size_t>(0, train_.size() - 1)(sampler_)];
-    // Loss frame: a full window of recorded history behind the pushed-forward start.
-    const int64_t frame =
-        std::uniform_int_distribution<int64_t>(gnn::kWindow - 1 + push, t.frames() - 2)(sampler_);
+    // Loss frame: a full window of recorded history behind the pushed-forward start, and the
+    // loss frames' targets recorded after it.
+    const int64_t frame = std::uniform_int_distribution<int64_t>(
+        gnn::kWindow - 1 + push, t.frames() - 1 - frames_after)(sampler_);
     auto ids = gnn::active_ids(t, frame - push);
-    if (push > 0) {  // only particles present through the whole unroll
-      auto present = t.active.slice(0, frame - push, frame + 2).index_select(1, ids).all(0);
+    if (push > 0 || frames_after > 1) {  // only particles present through the whole unroll
+      auto present =
+          t.active.slice(0, frame - push, frame + frames_after + 1).index_select(1, ids).all(0);
       ids = ids.index({present});
     }
     if (b % world != rank) {
@@ -287,20 +289,62 @@ TrainingBatch Trainer::sample_batch() {
       history = torch::cat({history.slice(1, 1), next.position.unsqueeze(1)}, 1);
       fraction = next.oil_fraction;
     }
-    const auto noisy =
-        gnn::random_walk_noise(history, simulator_->model().noise_std(), noise_generator_);
-    auto next = t.position[frame + 1].index_select(0, ids);
-    gnn::FrameNodes nodes{noisy, fraction, t.material, t.boundary};
-    graphs.push_back(simulator_->encode(nodes));
-    targets.push_back(
-        simulator_->normalise_acceleration(gnn::noisy_target_acceleration(history, noisy, next)));
+    auto noisy = gnn::random_walk_noise(history, simulator_->model().noise_std(), noise_generator_);
+    windows.push_back({&t, ids, frame, history, noisy, fraction});
+  }
+  return windows;
+}
+
+TrainingBatch Trainer::batch_of(const std::vector<LossWindow>& windows, int k) const {
+  std::vector<gnn::GraphInput> graphs;
+  std::vector<torch::Tensor> targets, masks, fraction_targets;
+  for (const auto& w : windows) {
+    const gnn::Trajectory& t = *w.trajectory;
+    const int64_t target_frame = w.frame + 1 + k;
+    auto next = t.position[target_frame].index_select(0, w.ids);
+    graphs.push_back(simulator_->encode({w.history, w.fraction, t.material, t.boundary}));
+    // The first frame's input is the noisy one: its target undoes the velocity noise (GNS's);
+    // a later frame's is the model's own forecast, whose target reaches the recorded frame.
+    targets.push_back(simulator_->normalise_acceleration(
+        k == 0 ? gnn::noisy_target_acceleration(w.clean_history, w.history, next)
+               : gnn::target_acceleration(w.history, next)));
     fraction_targets.push_back(simulator_->normalise_fraction_change(
-        t.oil_fraction[frame + 1].index_select(0, ids) - fraction));
-    masks.push_back(t.active[frame + 1].index_select(0, ids));
+        t.oil_fraction[target_frame].index_select(0, w.ids) - w.fraction));
+    masks.push_back(t.active[target_frame].index_select(0, w.ids));
   }
   const torch::Device device = simulator_->device();
   return {gnn::join_graphs(graphs), torch::cat(targets).to(device), torch::cat(masks).to(device),
           torch::cat(fraction_targets).to(device)};
+}
+
+torch::Tensor Trainer::unrolled_loss(std::vector<LossWindow> windows, const TrainingBatch& first) {
+  const int frames = config_.training.loss_frames;
+  TrainingBatch batch = first;
+  torch::Tensor total;
+  for (int k = 0;; ++k) {
+    const gnn::ModelOutput output =
+        simulator_->model().forward(batch.graph, objective_->forward_options(batch, state_.step));
+    const torch::Tensor value = objective_->evaluate(output, batch).total;
+    total = k == 0 ? value : total + value;
+    if (k + 1 == frames) break;
+    // Each window's next input: its forecast position, with gradient through it (the windows'
+    // fluid rows follow each other in the joined graph, in window order).
+    const auto acceleration = simulator_->denormalise_acceleration(
+        output.acceleration.index({batch.graph.fluid}).to(torch::kCPU));
+    int64_t row = 0;
+    for (auto& w : windows) {
+      const int64_t n = w.ids.size(0);
+      const auto last = w.history.select(1, gnn::kWindow - 1);
+      const auto next = last + (last - w.history.select(1, gnn::kWindow - 2)) +
+                        acceleration.slice(0, row, row + n);
+      w.history = torch::cat({w.history.slice(1, 1), next.unsqueeze(1)}, 1);
+      // The oil fraction is the recording's: the unroll is for the positions' drift.
+      w.fraction = w.trajectory->oil_fraction[w.frame + 1 + k].index_select(0, w.ids);
+      row += n;
+    }
+    batch = batch_of(windows, k + 1);
+  }
+  return total / double(frames);
 }
 
 torch::Tensor Trainer::loss(const TrainingBatch& batch) {
@@ -494,9 +538,11 @@ void Trainer::stop_if_requested(int64_t kept_step) const {
 double Trainer::gradient_step(double lr) {
   for (auto& group : optimizer_->param_groups())
     static_cast<torch::optim::AdamOptions&>(group.options()).lr(lr);
-  auto batch = sample_batch();
+  auto windows = sample_windows();
+  const TrainingBatch batch = batch_of(windows, 0);
   optimizer_->zero_grad();
-  auto l = loss(batch);
+  auto l =
+      config_.training.loss_frames > 1 ? unrolled_loss(std::move(windows), batch) : loss(batch);
   l.backward();
   double value = l.item<double>();
   if (DataParallel* parallel = options_.parallel) {

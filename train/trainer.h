@@ -2,7 +2,8 @@
 // The training loop of spill-train: samples windows of random frames of random training
 // trajectories, adds the random-walk noise, optionally pushes the window forward with the model
 // itself, and takes Adam steps on the model's training objective (gnn/training/objective.h: the
-// MSE of the normalised acceleration over fluid particles for GNS), with the learning rate of
+// MSE of the normalised acceleration over fluid particles for GNS), optionally averaged over a
+// few frames the model forecasts in turn (loss_frames), with the learning rate of
 // docs/models.md. The model trains in train() mode and is validated in eval() mode. It validates
 // periodically (one-step loss on fixed frames of the valid split, and a short rollout), logs to
 // RUN/log.csv and RUN/loss.svg, and writes RUN/last.pt atomically. Resuming from last.pt continues
@@ -51,6 +52,17 @@ struct TrainerOptions {
 
 using gnn::TrainingBatch;
 
+// One sampled training window, carried through the loss frames: the particles present through
+// all of it, the frame its first loss frame starts from, and its current input.
+struct LossWindow {
+  const gnn::Trajectory* trajectory = nullptr;
+  torch::Tensor ids;
+  int64_t frame = 0;            // the first loss frame's target is frame + 1
+  torch::Tensor clean_history;  // [n, kWindow, 3] before the noise (first loss frame only)
+  torch::Tensor history;        // [n, kWindow, 3] the model's input
+  torch::Tensor fraction;       // [n]
+};
+
 // What a run trains and validates on.
 struct TrainingData {
   gnn::DatasetMetadata metadata;
@@ -73,8 +85,16 @@ class Trainer {
   double run();
   // The objective's total loss of one batch (with autograd).
   torch::Tensor loss(const TrainingBatch& batch);
-  // This process's share of the next global batch (all of it without a process group).
-  TrainingBatch sample_batch();
+  // This process's share of the next global batch (all of it without a process group), as the
+  // batch of its first loss frame.
+  TrainingBatch sample_batch() { return batch_of(sample_windows(), 0); }
+  // This process's windows of the next global batch, pushed forward and with the noise added.
+  std::vector<LossWindow> sample_windows();
+  // The batch of loss frame `k` of `windows`: their current input, the recorded frame after it.
+  TrainingBatch batch_of(const std::vector<LossWindow>& windows, int k) const;
+  // The loss averaged over the config's loss_frames, each frame's input after the first the
+  // model's forecast of the frame before (with autograd); `first` is batch_of(windows, 0).
+  torch::Tensor unrolled_loss(std::vector<LossWindow> windows, const TrainingBatch& first);
   gnn::LearnedSimulator& simulator() { return *simulator_; }
   int64_t step() const { return state_.step; }
 

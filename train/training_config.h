@@ -46,6 +46,7 @@ struct TrainingConfig {
   int decay_steps = 5000000;
   int pushforward_steps = 0;
   std::vector<PushforwardStage> pushforward_schedule;  // empty: pushforward_steps every batch
+  int loss_frames = 1;
   int validate_every = 500;
   int validation_samples = 8;
   int validation_rollout_frames = 10;
@@ -82,6 +83,13 @@ struct TrainingConfig {
                   "LagrangeBench's pushforward schedule instead of a fixed count: stages "
                   "{from_step, unrolls, weight}, the first from step 0, in step order; each "
                   "batch's unroll count is drawn from the stages open at its step"));
+    v.field("loss_frames", loss_frames,
+            param("",
+                  "frames the loss is averaged over: after the first, each frame's input is the "
+                  "model's own forecast of the one before, with gradient through it (the oil "
+                  "fraction is the recording's); 1: one-frame loss")
+                .at_least(1)
+                .at_most(4));
     v.field("validate_every", validate_every, param("", "steps between validations").at_least(1));
     v.field("validation_samples", validation_samples,
             param("", "frames of the valid split for the one-step loss").at_least(1));

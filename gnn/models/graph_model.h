@@ -1,7 +1,7 @@
 #pragma once
-// The contract every learned simulator implements (GNS here; DPI-Nets and PAGATNet plug in the
-// same way): one graph in, a ModelOutput out. The registry (model_registry.cpp) builds a model
-// from its JSON config by the config's "model" name, validating every key.
+// The contract every learned simulator implements (GNS, DPI-Nets, PAGATNet and the
+// constant-velocity floor): one graph in, a ModelOutput out. The registry (model_registry.cpp)
+// builds a model from its JSON config by the config's "model" name, validating every key.
 //
 // forward() checks the graph (shapes, dtypes, contiguity, device) before the model sees it and
 // runs on the model's device; models are used in train() mode for training and in eval() mode

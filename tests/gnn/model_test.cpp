@@ -314,6 +314,60 @@ TEST(Training, APushforwardScheduleResumesAsTheUninterruptedRun) {
   EXPECT_NE(a, training_log::rows_without_timing(plain / "log.csv"));
 }
 
+// A loss over two frames is the mean of the first frame's loss and the loss of the frame whose
+// input is the model's own forecast (as a rollout makes it), and its gradient runs through that
+// forecast: it is not the gradient of the same two losses with the forecast taken as data.
+TEST(Training, ALossOverTwoFramesFeedsTheModelsForecastWithItsGradient) {
+  Tiny data("loss_frames");
+  train::Trainer trainer(
+      options(data, data.dir / "run", 10, {"/loss_frames=2", "/model/noise_std=0"}));
+  auto windows = trainer.sample_windows();
+  ASSERT_FALSE(windows.empty());
+  const train::TrainingBatch first = trainer.batch_of(windows, 0);
+  auto& model = trainer.simulator().model();
+  auto gradient_of = [&](torch::Tensor loss) {
+    for (auto& p : model.parameters()) p.mutable_grad() = torch::Tensor();
+    loss.backward();
+    std::vector<torch::Tensor> g;
+    for (auto& p : model.parameters()) g.push_back(p.grad().clone());
+    return g;
+  };
+  const torch::Tensor unrolled = trainer.unrolled_loss(windows, first);
+  const auto through = gradient_of(unrolled);
+  // The same two frames by hand: the second input is the forecast as data (no gradient).
+  auto forecast = windows;
+  for (auto& w : forecast) {
+    const gnn::Trajectory& t = *w.trajectory;
+    const auto next =
+        trainer.simulator().next_state({w.history, w.fraction, t.material, t.boundary});
+    w.history = torch::cat({w.history.slice(1, 1), next.position.unsqueeze(1)}, 1);
+    w.fraction = t.oil_fraction[w.frame + 1].index_select(0, w.ids);
+  }
+  const torch::Tensor by_hand =
+      (trainer.loss(first) + trainer.loss(trainer.batch_of(forecast, 1))) / 2;
+  EXPECT_NEAR(unrolled.item<double>(), by_hand.item<double>(), 1e-5 * by_hand.item<double>());
+  const auto as_data = gradient_of(by_hand);
+  double difference = 0, size = 0;
+  for (size_t k = 0; k < through.size(); ++k) {
+    difference += (through[k] - as_data[k]).pow(2).sum().item<double>();
+    size += through[k].pow(2).sum().item<double>();
+  }
+  EXPECT_GT(std::sqrt(difference), 1e-3 * std::sqrt(size))
+      << "the gradient does not run through the forecast";
+}
+
+// Trained with a loss over three frames, the model still learns the tiny dataset.
+TEST(Training, ALossOverThreeFramesFallsTenfold) {
+  Tiny data("loss_frames_train");
+  const fs::path out = data.dir / "run";
+  train::Trainer(options(data, out, 300, {"/model/noise_std=0", "/loss_frames=3"})).run();
+  const auto rows = training_log::rows_without_timing(out / "log.csv");
+  ASSERT_GE(rows.size(), 3u);
+  const double first = std::stod(rows[1].substr(rows[1].find(',') + 1));
+  const double last = std::stod(rows.back().substr(rows.back().find(',') + 1));
+  EXPECT_LT(last, first / 10) << "first logged loss " << first << ", last " << last;
+}
+
 // A run made before the objectives had sections stores their keys flat in its checkpoint (as the
 // committed docs/results checkpoints do): it resumes with today's config, its objective keys
 // given in their section or flat, and continues as the uninterrupted run; another value of one
