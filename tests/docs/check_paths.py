@@ -18,8 +18,11 @@ as /leaks/0/rate), anything under runs/, data/ or build/ (outputs, not sources),
 --save-data or --work), and bare file names without a '/' (spill.json, trajectory.h5,
 metadata.json are what a command writes into a run folder).
 
-Prints what it checked and exits 1 listing every named path that does not exist. Python 3
-standard library only.
+Also holds the README to a map's length: at most README_MOST_LINES lines (the figures and the
+details live in docs/, the README points at them).
+
+Prints what it checked and exits 1 listing every named path that does not exist, or naming the
+README's length when it is over. Python 3 standard library only.
 """
 import glob
 import os
@@ -27,6 +30,7 @@ import re
 import sys
 
 SKIPPED_TOP = {"runs", "data", "build"}
+README_MOST_LINES = 300
 OUTPUT_OPTIONS = {"--out", "--save-data", "--work"}
 # Characters stripped from the ends of a token taken from code (a leading '.' is kept: ../x).
 LEADING_PUNCTUATION = "\"'`(["
@@ -192,12 +196,18 @@ def main():
     for md in files:
         checker.check_file(md)
     print(f"check_paths: {checker.checked} paths named in {len(files)} Markdown files checked")
+    with open(os.path.join(root, "README.md"), encoding="utf-8") as f:
+        readme_lines = len(f.read().splitlines())
+    too_long = readme_lines > README_MOST_LINES
+    if too_long:
+        print(f"README.md: {readme_lines} lines, over the {README_MOST_LINES} a map may have: "
+              "move details and figures to docs/ and point at them")
     if checker.missing:
         for md, line, path, why in sorted(checker.missing):
             print(f"{md}:{line}: {path}: {why}")
         print(f"check_paths: {len(checker.missing)} named paths do not exist")
         return 1
-    return 0
+    return 1 if too_long else 0
 
 
 if __name__ == "__main__":
