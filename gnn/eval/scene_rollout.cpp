@@ -194,25 +194,17 @@ std::unique_ptr<sph::Simulation> simulation_at_frame(
   return sim;
 }
 
-RolloutResult standalone_rollout(LearnedSimulator& model, const Trajectory& t, int64_t first_frame,
-                                 int64_t frames, double frame_dt,
-                                 const std::function<void(int64_t)>& on_frame,
-                                 const FrameCorrection& correct, double jitter, uint64_t seed) {
+RestartedRollout restart_rollout(const Trajectory& t, int64_t first_frame, int64_t frames,
+                                 double frame_dt, double jitter, uint64_t seed) {
   if (first_frame < 0 || frames < 1 || first_frame + frames >= t.frames())
     throw std::invalid_argument(t.source + ": cannot roll out " + std::to_string(frames) +
                                 " frames from frame " + std::to_string(first_frame) + " of " +
                                 std::to_string(t.frames()));
-  torch::Tensor offset;
-  auto simulation = simulation_at_frame(t, first_frame, frame_dt, [&](sph::RecordedFrame& f) {
-    offset = jitter_active_positions(f, jitter, seed);
+  RestartedRollout r;
+  r.simulation = simulation_at_frame(t, first_frame, frame_dt, [&](sph::RecordedFrame& f) {
+    r.offset = jitter_active_positions(f, jitter, seed);
   });
-  sph::Simulation& sim = *simulation;
-  SceneRollout stepper(model, sim, t.material, frame_dt, t.source);
-  const auto ids = active_ids(t, first_frame);
-  stepper.set_history(ids, position_history(t, first_frame, ids, frame_dt) +
-                               offset.index_select(0, ids).unsqueeze(1));
-
-  RolloutResult out;
+  RolloutResult& out = r.result;
   out.first_frame = first_frame;
   out.position = torch::empty({frames + 1, t.particles(), 3});
   out.active = torch::empty({frames + 1, t.particles()}, torch::kBool);
@@ -220,19 +212,41 @@ RolloutResult standalone_rollout(LearnedSimulator& model, const Trajectory& t, i
   out.position[0] = t.position[first_frame];
   out.active[0] = t.active[first_frame];
   out.oil_fraction[0] = t.oil_fraction[first_frame];
-  for (int64_t k = 0; k < frames; ++k) {
+  return r;
+}
+
+void record_frames(RestartedRollout& rollout, const std::function<void(int64_t)>& advance,
+                   const std::function<void(int64_t)>& on_frame) {
+  RolloutResult& out = rollout.result;
+  const int64_t frames = out.position.size(0) - 1;
+  for (int64_t k = 1; k <= frames; ++k) {
     const auto start = std::chrono::steady_clock::now();
-    stepper.advance(int(first_frame + k + 1), correct);
-    const IdentityFrame f = identity_frame(sim);
-    out.position[k + 1] = f.position;
-    out.active[k + 1] = f.active;
-    out.oil_fraction[k + 1] = f.oil_fraction;
+    advance(k);
+    const IdentityFrame f = identity_frame(*rollout.simulation);
+    out.position[k] = f.position;
+    out.active[k] = f.active;
+    out.oil_fraction[k] = f.oil_fraction;
     out.frame_seconds.push_back(
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
-    if (on_frame) on_frame(k + 1);
+    if (on_frame) on_frame(k);
   }
-  if (const sph::RiverFlow* flow = sim.flow()) out.skipped_inflow_layers = flow->skipped_layers();
-  return out;
+}
+
+RolloutResult standalone_rollout(LearnedSimulator& model, const Trajectory& t, int64_t first_frame,
+                                 int64_t frames, double frame_dt,
+                                 const std::function<void(int64_t)>& on_frame,
+                                 const FrameCorrection& correct, double jitter, uint64_t seed) {
+  RestartedRollout rollout = restart_rollout(t, first_frame, frames, frame_dt, jitter, seed);
+  sph::Simulation& sim = *rollout.simulation;
+  SceneRollout stepper(model, sim, t.material, frame_dt, t.source);
+  const auto ids = active_ids(t, first_frame);
+  stepper.set_history(ids, position_history(t, first_frame, ids, frame_dt) +
+                               rollout.offset.index_select(0, ids).unsqueeze(1));
+  record_frames(
+      rollout, [&](int64_t k) { stepper.advance(int(first_frame + k), correct); }, on_frame);
+  if (const sph::RiverFlow* flow = sim.flow())
+    rollout.result.skipped_inflow_layers = flow->skipped_layers();
+  return std::move(rollout.result);
 }
 
 }  // namespace gnn

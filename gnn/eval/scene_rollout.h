@@ -78,6 +78,23 @@ std::unique_ptr<sph::Simulation> simulation_at_frame(
     const Trajectory& t, int64_t frame, double frame_dt,
     const std::function<void(sph::RecordedFrame&)>& adjust = {});
 
+// What a rollout restarted from a recorded frame shares, whoever moves the particles (the model
+// or the dataset's solver): the trajectory's scene restored at `first_frame` (its active
+// particles jittered as jitter_active_positions does, returning the offsets in `offset`), and a
+// result that starts with the recorded frame. Throws std::invalid_argument naming the trajectory
+// when the frames are not in it.
+struct RestartedRollout {
+  std::unique_ptr<sph::Simulation> simulation;
+  torch::Tensor offset;  // [N, 3] each particle's start offset (zero for inactive ones)
+  RolloutResult result;  // frame 0 the recording's; frames + 1 rows
+};
+RestartedRollout restart_rollout(const Trajectory& t, int64_t first_frame, int64_t frames,
+                                 double frame_dt, double jitter, uint64_t seed);
+// Runs frames 1..frames of `rollout`: `advance(k)` moves its simulation to frame k, after which
+// the frame's identity-ordered state and its wall time are recorded and `on_frame(k)` is called.
+void record_frames(RestartedRollout& rollout, const std::function<void(int64_t)>& advance,
+                   const std::function<void(int64_t)>& on_frame);
+
 // Rolls `model` out from recorded frame `first_frame` of `t` for `frames` frames, standalone:
 // the state and history of that frame are the recording's, everything after comes from the model
 // and from the sources and sinks of the trajectory's scene (t.scene). Inactive rows of the
