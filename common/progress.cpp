@@ -29,8 +29,10 @@ void ProgressReporter::update(long done, const std::string& detail) {
   const auto now = std::chrono::steady_clock::now();
   const double elapsed = std::chrono::duration<double>(now - start_).count();
   const double fraction = double(done) / double(total_);
-  const double eta = done > 0 ? elapsed * (1 - fraction) / fraction : 0;
-  const std::string timing = " elapsed " + format_seconds(elapsed) + " eta " + format_seconds(eta);
+  // Nothing done yet gives no rate to extrapolate: say so rather than a zero.
+  const std::string eta =
+      done > 0 ? format_seconds(elapsed * (1 - fraction) / fraction) : std::string("unknown");
+  const std::string timing = " elapsed " + format_seconds(elapsed) + " eta " + eta;
   if (terminal_) {
     const int width = 30, filled = int(fraction * width + 0.5);
     out_ << "\r" << what_ << " [" << std::string(size_t(filled), '#')

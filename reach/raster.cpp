@@ -159,6 +159,14 @@ bool crs_is_geographic(const std::string& wkt) {
   return srs.IsGeographic() != 0;
 }
 
+LinearUnit crs_linear_unit(const std::string& wkt) {
+  OGRSpatialReference srs;
+  if (srs.importFromWkt(wkt.c_str()) != OGRERR_NONE) return {};
+  const char* name = nullptr;
+  const double metres = srs.GetLinearUnits(&name);
+  return {name ? name : "", metres};
+}
+
 Raster coarsen(const Raster& r, int factor) {
   if (factor < 1) throw std::invalid_argument("a coarsening factor must be >= 1");
   Raster c;

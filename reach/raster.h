@@ -43,6 +43,13 @@ Raster crop(const Raster& raster, double x_min, double y_min, double x_max, doub
 std::string crs_wkt_of(const std::string& user);
 // Whether the CRS is geographic (degrees), which a grid in metres cannot use.
 bool crs_is_geographic(const std::string& wkt);
+// The horizontal unit of a projected CRS: its name and its length in metres (1 for the metre;
+// 0.3048006 for the US survey foot). {"", 0} when the WKT does not read.
+struct LinearUnit {
+  std::string name;
+  double metres = 0;
+};
+LinearUnit crs_linear_unit(const std::string& wkt);
 
 // The mean of each factor x factor block of valid cells (NaN where a block has none); the last
 // row and column of blocks may be partial. For running a fine DEM on a coarser grid.

@@ -17,6 +17,10 @@ namespace reach {
 using common::ConfigError;
 using common::param;
 
+// Manning's n above this is not a roughness of any bed (Chow's tables end near 0.2, dense
+// floodplain brush).
+constexpr double kMaxManning = 1.0;
+
 // A value over time: a constant, inline (t, value) points, or a CSV column.
 struct SeriesConfig {
   std::optional<double> value;
@@ -176,7 +180,10 @@ struct TerrainConfig {
                 .at_least(1));
     v.field("window", window,
             param("m", "[x_min, y_min, x_max, y_max] in map coordinates: run on this part only"));
-    v.field("manning", manning, param("s/m^(1/3)", "Manning's n everywhere").non_negative());
+    v.field("manning", manning,
+            param("s/m^(1/3)", "Manning's n everywhere (dense brush is about 0.2)")
+                .non_negative()
+                .at_most(kMaxManning));
     v.field("manning_file", manning_file,
             param("", "Raster of Manning's n on the terrain's grid (instead of `manning`)"));
     v.field("crs", crs,
@@ -203,6 +210,7 @@ struct ReachConfig {
   double end_time = 3600, output_every = 600;
   double steady_tolerance = 0, steady_window = 600;
   double cfl = 0.45, dry_depth = 1e-4, max_dt = 10;
+  int max_steps = 10000000;
   template <class V>
   void describe(V& v) {
     v.field("name", name, param("", "Name of the run"));
@@ -228,6 +236,12 @@ struct ReachConfig {
     v.field("dry_depth", dry_depth,
             param("m", "Shallower water holds no velocity and counts as dry").positive());
     v.field("max_dt", max_dt, param("s", "Longest time step").positive());
+    v.field("max_steps", max_steps,
+            param("",
+                  "Refuse a run estimated (from the inflows' critical flow and the initial "
+                  "water) to need more time steps, and stop one that takes more; raise it for "
+                  "a long run on a fine grid")
+                .at_least(1));
   }
 };
 

@@ -8,12 +8,14 @@
 #include <cstdio>
 #include <filesystem>
 #include <limits>
+#include <sstream>
 
 #include "common/axis_ticks.h"
 #include "common/checked_file.h"
 #include "common/output_folder.h"
 #include "common/progress.h"
 #include "reach/channel_carving.h"
+#include "reach/reach_checks.h"
 #include "reach/reach_map.h"
 #include "reach/series.h"
 
@@ -81,13 +83,27 @@ std::vector<char> closed_cells(const Raster& r) {
 // The depth below which a cell does not count in the steady-state residual (m).
 constexpr double kResidualDepth = 0.01;
 
-std::string stamp(double t) {
-  char text[32];
-  std::snprintf(text, sizeof text, "t%07lds", long(std::lround(t)));
+std::string number(double v) {
+  std::ostringstream s;
+  s << v;
+  return s.str();
+}
+
+// "t0000600s", or with `decimals` places ("t0000000.25s").
+std::string stamp_with(double t, int decimals) {
+  char text[48];
+  std::snprintf(text, sizeof text, "t%0*.*fs", decimals > 0 ? 8 + decimals : 7, decimals, t);
   return text;
 }
 
 }  // namespace
+
+std::string frame_stamp(double t, double previous, double interval) {
+  int decimals = 0;
+  while (decimals < 9 && interval * std::pow(10.0, decimals) < 1 - 1e-9) ++decimals;
+  while (decimals < 12 && stamp_with(t, decimals) == stamp_with(previous, decimals)) ++decimals;
+  return stamp_with(t, decimals);
+}
 
 ReachModel build_reach(const ReachConfig& c, const std::string& file) {
   ReachModel m;
@@ -109,6 +125,8 @@ ReachModel build_reach(const ReachConfig& c, const std::string& file) {
                       c.terrain.file +
                           " is in a geographic CRS (degrees); a grid in metres needs a projected "
                           "one: warp it first (gdalwarp -t_srs EPSG:...)");
+  check_metres(r.crs_wkt, file, c.terrain.crs.empty() ? "/terrain/file" : "/terrain/crs",
+               c.terrain.crs.empty() ? c.terrain.file : c.terrain.crs);
   Field manning;
   Raster n_raster;
   if (!c.terrain.manning_file.empty()) {
@@ -132,11 +150,19 @@ ReachModel build_reach(const ReachConfig& c, const std::string& file) {
     r = coarsen(r, c.terrain.coarsen);
     if (!n_raster.values.empty()) n_raster = coarsen(n_raster, c.terrain.coarsen);
   }
+  check_elevations(r, c.terrain.file, file);
   if (c.terrain.channel) m.carved_cells = carve_channel(r.grid, r.values, *c.terrain.channel);
   if (!n_raster.values.empty()) {
     manning = n_raster.values;
-    for (size_t k = 0; k < manning.size(); ++k)
+    for (size_t k = 0; k < manning.size(); ++k) {
       if (std::isnan(manning[k])) manning[k] = c.terrain.manning;
+      if (!(manning[k] >= 0 && manning[k] <= kMaxManning))
+        throw ConfigError(file, "/terrain/manning_file",
+                          c.terrain.manning_file + " has a Manning's n of " + number(manning[k]) +
+                              " at (" + number(r.grid.x(int(k) % r.grid.nx)) + ", " +
+                              number(r.grid.y(int(k) / r.grid.nx)) + "), beyond 0 to " +
+                              number(kMaxManning));
+    }
   } else {
     manning = {c.terrain.manning};
   }
@@ -149,6 +175,13 @@ ReachModel build_reach(const ReachConfig& c, const std::string& file) {
     throw ConfigError(file, "/terrain", e.what());
   }
   const auto closed = closed_cells(r);
+  std::vector<std::pair<Section, std::string>> placed;  // every section and its key
+  double lowest_bed = std::numeric_limits<double>::infinity();
+  for (double z : r.values)
+    if (!std::isnan(z)) lowest_bed = std::min(lowest_bed, z);
+  const auto consider_wave = [&](double speed, const std::string& key) {
+    if (speed > m.wave_speed) m.wave_speed = speed, m.wave_speed_key = key;
+  };
   for (size_t k = 0; k < c.inflows.size(); ++k) {
     const std::string p = "/inflows/" + std::to_string(k);
     InflowBoundary b;
@@ -156,6 +189,7 @@ ReachModel build_reach(const ReachConfig& c, const std::string& file) {
     if (in.section) {
       b.name = in.section->name;
       b.section = section_of(*in.section, r.grid, closed, file, p + "/section");
+      placed.emplace_back(b.section, p + "/section");
     } else {
       b.name = in.name;
       const auto& a = in.area;
@@ -173,6 +207,13 @@ ReachModel build_reach(const ReachConfig& c, const std::string& file) {
         throw ConfigError(file, p + "/discharge",
                           "expected a discharge >= 0, got " + std::to_string(q) +
                               " at t = " + std::to_string(t) + " s");
+    check_covers(in.discharge, b.discharge, c.end_time, file, p + "/discharge");
+    // The width the peak enters over: the section's, or across the area's cells.
+    const bool along_y = b.section.side == Side::kWest || b.section.side == Side::kEast;
+    const double width =
+        in.section ? (b.section.last - b.section.first + 1) * (along_y ? r.grid.dy : r.grid.dx)
+                   : std::sqrt(double(b.area.size()) * r.grid.cell_area());
+    consider_wave(critical_wave_speed(b.discharge.peak() / width), p + "/discharge");
     m.solver->add_inflow(b);
   }
   for (size_t k = 0; k < c.outflows.size(); ++k) {
@@ -181,14 +222,23 @@ ReachModel build_reach(const ReachConfig& c, const std::string& file) {
     OutflowBoundary b;
     b.name = o.section.name;
     b.section = section_of(o.section, r.grid, closed, file, p + "/section");
+    placed.emplace_back(b.section, p + "/section");
     b.kind = o.kind == "stage"  ? OutflowKind::kStage
              : o.kind == "free" ? OutflowKind::kFree
                                 : OutflowKind::kNormalDepth;
     b.slope = o.slope;
-    if (o.stage) b.stage = load_series(*o.stage, file, p + "/stage");
+    if (o.stage) {
+      b.stage = load_series(*o.stage, file, p + "/stage");
+      check_covers(*o.stage, b.stage, c.end_time, file, p + "/stage");
+      consider_wave(std::sqrt(9.81 * std::max(0.0, b.stage.peak() - lowest_bed)), p + "/stage");
+    }
     m.solver->add_outflow(b);
   }
-  if (c.initial_level) m.solver->fill_to_level(*c.initial_level);
+  check_sections_apart(placed, file);
+  if (c.initial_level) {
+    m.solver->fill_to_level(*c.initial_level);
+    consider_wave(std::sqrt(9.81 * std::max(0.0, *c.initial_level - lowest_bed)), "/initial_level");
+  }
   m.terrain = std::move(r);
   return m;
 }
@@ -196,6 +246,7 @@ ReachModel build_reach(const ReachConfig& c, const std::string& file) {
 nlohmann::json run_reach(const ReachRunOptions& o) {
   const ReachConfig config = load_reach_config(o.config_file, o.overrides);
   ReachModel model = build_reach(config, o.config_file);
+  const double least_steps = check_run_length(config, model, o.config_file);
   ShallowWaterSolver& solver = *model.solver;
   const Grid& g = solver.grid();
   std::ostream& log = *o.log;
@@ -268,6 +319,7 @@ nlohmann::json run_reach(const ReachRunOptions& o) {
   double depth_scale = 0, speed_scale = 0, residual = nan;
   const double volume0 = solver.volume();
   long steps = 0;
+  double last_frame_time = -1;  // no frame yet
 
   const auto write_frame = [&] {
     const WaterState& w = solver.state();
@@ -291,7 +343,8 @@ nlohmann::json run_reach(const ReachRunOptions& o) {
         const bool edge = i == 0 || j == 0 || i == g.nx - 1 || j == g.ny - 1;
         if (edge && !in_section[c] && w.h[c] > 0.05) ++against_edge;
       }
-    const std::string t = stamp(solver.time());
+    const std::string t = frame_stamp(solver.time(), last_frame_time, config.output_every);
+    last_frame_time = solver.time();
     nlohmann::json files = nlohmann::json::object();
     for (const auto& [what, values] : {std::pair<const char*, const Field*>{"depth", &depth},
                                        {"level", &level},
@@ -342,8 +395,11 @@ nlohmann::json run_reach(const ReachRunOptions& o) {
 
   omp_set_num_threads(o.threads);
   const auto start = std::chrono::steady_clock::now();
-  common::ProgressReporter progress(log, o.terminal, long(std::ceil(config.end_time)),
-                                    "reach " + config.name);
+  // Progress in thousandths of the simulated time (a run shorter than a second still moves).
+  constexpr long kProgressUnits = 1000;
+  common::ProgressReporter progress(log, o.terminal, kProgressUnits, "reach " + config.name);
+  log << "reach " << config.name << ": at least " << number(least_steps) << " steps to "
+      << number(config.end_time) << " s\n";
   track_maxima();
   write_frame();
   bool steady = false;
@@ -369,15 +425,20 @@ nlohmann::json run_reach(const ReachRunOptions& o) {
                                  " s at t = " + std::to_string(solver.time()) + " s");
       if (target - solver.time() - dt < 1e-9 * target) dt = target - solver.time();
       solver.step(dt);
-      ++steps;
+      if (++steps > config.max_steps)
+        throw ConfigError(o.config_file, "/max_steps",
+                          "the run passed " + number(config.max_steps) +
+                              " steps at t = " + number(solver.time()) + " of " +
+                              number(config.end_time) + " s (its step had fallen to " + number(dt) +
+                              " s): check the inflows and the terrain, or raise /max_steps");
       if (target - solver.time() < 1e-9 * target) solver.set_time(target);
       track_maxima();
       if (o.stop && o.stop->load()) throw common::Interrupted("interrupted; nothing written");
-      if (steps % 50 == 0) {
-        char detail[96];
-        std::snprintf(detail, sizeof detail, "t=%.0fs dt=%.3gs residual=%.2e m/s", solver.time(),
-                      dt, residual);
-        progress.update(long(solver.time()), detail);
+      if (steps % 50 == 0 || dt < 1e-3 * config.output_every) {
+        char detail[128];
+        std::snprintf(detail, sizeof detail, "t=%.6gs of %.6gs dt=%.3gs residual=%.2e m/s",
+                      solver.time(), config.end_time, dt, residual);
+        progress.update(long(kProgressUnits * solver.time() / config.end_time), detail);
       }
       // The steady-state residual: how fast the depths drift, from the state one window ago
       // (oscillations within the window, a film wetting and drying at the edge, do not count).
@@ -467,6 +528,8 @@ nlohmann::json run_reach(const ReachRunOptions& o) {
          "over the whole run; bed.tif, the bed the flow ran on (coarsened, carved); all "
          "GeoTIFF in the terrain's CRS"}}}};
   common::write_file_atomically(dir / "reach.json", summary.dump(2) + "\n");
+  // A Ctrl-C while the last files were written keeps its promise too.
+  if (o.stop && o.stop->load()) throw common::Interrupted("interrupted; nothing written");
   out.commit();
   return summary;
 }

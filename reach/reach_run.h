@@ -24,11 +24,19 @@ struct ReachModel {
   std::unique_ptr<ShallowWaterSolver> solver;
   Raster terrain;  // the grid the solver runs on, its bed (after carving) and CRS
   long carved_cells = 0;
+  // The fastest wave the inputs promise (m/s): the critical flow of each inflow's peak over its
+  // width, the initial water and a stage at rest. The run's step estimate starts from it, and
+  // `wave_speed_key` names the input it comes from.
+  double wave_speed = 0;
+  std::string wave_speed_key;
 };
 
 // Throws ConfigError (naming `config_file` and the key) or RasterError (naming the raster) for
-// input that does not fit: a raster GDAL cannot open, no or a geographic CRS, a window or a
-// section outside the raster, a section with no open cell, a Manning raster of another grid.
+// input that does not fit: a raster GDAL cannot open, no or a geographic CRS or one not in
+// metres, elevations not finite or beyond Earth's, a window or a section outside the raster, a
+// section with no open cell, two sections sharing cells, a Manning raster of another grid or
+// with values out of range, a series (a hydrograph, a stage) that does not cover the run.
+
 ReachModel build_reach(const ReachConfig& config, const std::string& config_file);
 
 struct ReachRunOptions {
@@ -41,6 +49,11 @@ struct ReachRunOptions {
   bool terminal = false;
   int threads = 1;
 };
+
+// The name of the frame at time t among frames every `interval` seconds: whole seconds when the
+// interval allows, more decimals otherwise, and more still until it differs from `previous`'s
+// (a last frame or a steady stop close after an output), so no two frames share a file.
+std::string frame_stamp(double t, double previous, double interval);
 
 // Runs and writes the folder (whole or not at all); returns reach.json's content.
 nlohmann::json run_reach(const ReachRunOptions& options);

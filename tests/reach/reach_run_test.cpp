@@ -8,10 +8,13 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <limits>
+#include <set>
 #include <sstream>
 
 #include "common/config_error.h"
 #include "reach/raster.h"
+#include "reach/reach_checks.h"
 #include "reach/reach_run.h"
 
 namespace fs = std::filesystem;
@@ -70,6 +73,7 @@ class ReachRun : public ::testing::Test {
       EXPECT_FALSE(fs::exists(dir_ / "refused")) << "a refused run wrote its folder";
       return e.what();
     }
+    fs::remove_all(dir_ / "refused");  // accepted: the next case starts without it
     return "";
   }
 
@@ -128,7 +132,7 @@ TEST_F(ReachRun, BadInputIsRefusedNamingTheKey) {
 // A hydrograph from a CSV with dates, as the Waikanae record is written.
 TEST_F(ReachRun, AHydrographReadsFromACsvWithDates) {
   std::ofstream(dir_ / "flow.csv") << "Date, Flow (m3/s), Code\n01/05/2005 00:00:00, 1.5, 0\n"
-                                      "01/05/2005 00:05:00, 3.5, 0\n";
+                                      "01/05/2005 00:05:00, 3.5, 0\n01/05/2005 00:10:00, 3.5, 0\n";
   nlohmann::json c = config_;
   c["inflows"][0]["discharge"] = {{"file", "flow.csv"}, {"time_format", "%m/%d/%Y %H:%M:%S"}};
   c["end_time"] = 600;
@@ -164,6 +168,8 @@ TEST(ReachConfig, EveryShippedConfigBuilds) {
     const reach::ReachConfig c = reach::load_reach_config(entry.path().string(), {});
     const reach::ReachModel m = reach::build_reach(c, entry.path().string());
     EXPECT_GT(m.solver->grid().cells(), 1000u) << entry.path();
+    // Within the step bound (the Waikanae flood took 218,653 steps for 137,128 estimated).
+    EXPECT_LE(reach::check_run_length(c, m, entry.path().string()), c.max_steps) << entry.path();
     ++seen;
   }
   EXPECT_GE(seen, 1);
@@ -187,4 +193,86 @@ TEST_F(ReachRun, AnAreaInflowReleasesItsDischargeInside) {
   c["inflows"][0]["area"] = {0, 0, 10, 10};
   std::ofstream(dir_ / "reach.json") << c.dump(2);
   EXPECT_THROW(run(c, "off"), common::ConfigError);
+}
+
+// Frames closer than a second apart each get their own files (they were named by whole seconds,
+// so 3,001 frames shared 31 rasters), and a last frame just after an output does too.
+TEST_F(ReachRun, FramesAHundredthOfASecondApartWriteTheirOwnFiles) {
+  nlohmann::json c = config_;
+  c["end_time"] = 0.05;
+  c["output_every"] = 0.01;
+  c["steady_tolerance"] = 0;
+  const nlohmann::json summary = run(c, "fine");
+  ASSERT_EQ(summary["frames"].size(), 6u);
+  std::set<std::string> names;
+  for (const auto& f : summary["frames"]) {
+    const std::string depth = f["files"]["depth"].get<std::string>();
+    EXPECT_TRUE(fs::exists(dir_ / "fine" / depth)) << depth;
+    EXPECT_TRUE(fs::exists(dir_ / "fine" / f["files"]["map"].get<std::string>()));
+    names.insert(depth);
+  }
+  EXPECT_EQ(names.size(), 6u);
+  EXPECT_EQ(std::distance(fs::directory_iterator(dir_ / "fine" / "png"), fs::directory_iterator()),
+            6);
+  // Whole seconds stay as they were; a frame 0.2 s after the last output gets its decimals.
+  EXPECT_EQ(reach::frame_stamp(600, 0, 600), "t0000600s");
+  EXPECT_EQ(reach::frame_stamp(600.2, 600, 600), "t0000600.2s");
+  EXPECT_NE(reach::frame_stamp(600.0004, 600, 600), reach::frame_stamp(600, 0, 600));
+}
+
+// Input that is wrong but looks fine is refused before any work, naming the key.
+TEST_F(ReachRun, PlausibleButWrongInputIsRefusedNamingTheKey) {
+  // An outflow on the inflow's cells: the balance would not close.
+  const std::string overlap = refusal({"/outflows/0/section/side=\"east\""});
+  EXPECT_NE(overlap.find("/outflows/0/section"), std::string::npos) << overlap;
+  EXPECT_NE(overlap.find("/inflows/0/section"), std::string::npos) << overlap;
+  // A CRS in US survey feet: 10 ft cells would run as 10 m cells.
+  const std::string feet = refusal({"/terrain/crs=\"EPSG:2236\""});
+  EXPECT_NE(feet.find("/terrain/crs"), std::string::npos) << feet;
+  EXPECT_NE(feet.find("foot"), std::string::npos) << feet;
+  // A hydrograph ending before the run, or starting late.
+  EXPECT_NE(refusal({"/inflows/0/discharge={\"points\": [[0, 6], [100, 6]]}"})
+                .find("/inflows/0/discharge: the series covers 0 to 100 s"),
+            std::string::npos);
+  EXPECT_NE(refusal({"/inflows/0/discharge={\"points\": [[10, 6], [8000, 6]]}"})
+                .find("/inflows/0/discharge"),
+            std::string::npos);
+  EXPECT_EQ(refusal({"/inflows/0/discharge={\"points\": [[0, 6], [7200, 6]]}", "/end_time=10"}),
+            "");
+  // Roughness beyond any bed.
+  EXPECT_NE(refusal({"/terrain/manning=1e30"}).find("/terrain/manning"), std::string::npos);
+  // Elevations that are no ground: nodata values GDAL was not told of (infinities read as
+  // nodata, as NaN does).
+  for (const double z : {1e30, -3.4028235e38}) {
+    reach::Raster r = reach::read_raster((dir_ / "channel.tif").string());
+    r.values[r.grid.at(3, 3)] = z;
+    reach::write_geotiff((dir_ / "odd.tif").string(), r);
+    const std::string odd = refusal({"/terrain/file=\"odd.tif\""});
+    EXPECT_NE(odd.find("/terrain/file"), std::string::npos) << odd;
+    EXPECT_NE(odd.find("odd.tif has an elevation of"), std::string::npos) << odd;
+  }
+}
+
+// A run that cannot end in a sensible number of steps is refused up front, naming what makes
+// the steps short; one whose steps fall below the estimate stops at max_steps, writing nothing.
+TEST_F(ReachRun, ARunTooLongToEndIsRefusedNamingWhatShortensItsSteps) {
+  EXPECT_NE(refusal({"/inflows/0/discharge={\"value\": 1e30}"}).find("/inflows/0/discharge"),
+            std::string::npos);
+  EXPECT_NE(refusal({"/cfl=1e-9"}).find("/cfl"), std::string::npos);
+  EXPECT_NE(refusal({"/max_dt=1e-9"}).find("/max_dt"), std::string::npos);
+  EXPECT_NE(refusal({"/output_every=1e-12"}).find("/output_every"), std::string::npos);
+  EXPECT_NE(refusal({"/end_time=1e12", "/output_every=1e8"}).find("/end_time = 1e+12"),
+            std::string::npos);
+  // The estimate is a floor: this channel's 6 m^3/s over 60 m give waves of 2 m/s, steps of
+  // 2.25 s, while the flow filling the dry channel runs faster.
+  std::ofstream(dir_ / "reach.json") << config_.dump(2);
+  const std::string file = (dir_ / "reach.json").string();
+  const reach::ReachConfig c = reach::load_reach_config(file, {"/end_time=600"});
+  const reach::ReachModel m = reach::build_reach(c, file);
+  const double least = reach::check_run_length(c, m, file);
+  EXPECT_NEAR(least, std::ceil(600 / (0.45 * 10 / (2 * std::sqrt(9.81 * std::cbrt(0.01 / 9.81))))),
+              1);
+  const std::string stopped =
+      refusal({"/end_time=600", "/max_steps=" + std::to_string(long(least))});
+  EXPECT_NE(stopped.find("/max_steps: the run passed"), std::string::npos) << stopped;
 }

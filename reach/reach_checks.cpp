@@ -1,0 +1,100 @@
+#include "reach/reach_checks.h"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+#include "common/config_error.h"
+
+namespace reach {
+
+namespace {
+
+std::string number(double v) {
+  std::ostringstream s;
+  s << v;
+  return s.str();
+}
+
+}  // namespace
+
+void check_elevations(const Raster& r, const std::string& raster_file, const std::string& file) {
+  for (int j = 0; j < r.grid.ny; ++j)
+    for (int i = 0; i < r.grid.nx; ++i) {
+      const double z = r.values[r.grid.at(i, j)];
+      if (std::isnan(z) || (z >= kLowestGround && z <= kHighestGround)) continue;
+      throw ConfigError(file, "/terrain/file",
+                        raster_file + " has an elevation of " + number(z) + " m at (" +
+                            number(r.grid.x(i)) + ", " + number(r.grid.y(j)) +
+                            "), beyond any ground (" + number(kLowestGround) + " to " +
+                            number(kHighestGround) +
+                            " m): mark such cells as the raster's nodata value");
+    }
+}
+
+void check_metres(const std::string& wkt, const std::string& file, const std::string& pointer,
+                  const std::string& what) {
+  const LinearUnit unit = crs_linear_unit(wkt);
+  if (std::abs(unit.metres - 1) <= 1e-9) return;
+  throw ConfigError(file, pointer,
+                    what + " is in " + (unit.name.empty() ? "an unknown unit" : unit.name) + " (" +
+                        number(unit.metres) +
+                        " m), not metres: the grid's cells must be in metres; warp it to a "
+                        "metric CRS first (gdalwarp -t_srs EPSG:...)");
+}
+
+void check_covers(const SeriesConfig& s, const Hydrograph& h, double end_time,
+                  const std::string& file, const std::string& pointer) {
+  if (s.value) return;
+  const double first = h.points().front().first, last = h.points().back().first;
+  if (first > 0 || last < end_time)
+    throw ConfigError(file, pointer,
+                      "the series covers " + number(first) + " to " + number(last) +
+                          " s, but the run goes from 0 to /end_time = " + number(end_time) +
+                          " s: extend it (or shorten the run)");
+}
+
+void check_sections_apart(const std::vector<std::pair<Section, std::string>>& placed,
+                          const std::string& file) {
+  for (size_t a = 0; a < placed.size(); ++a)
+    for (size_t b = a + 1; b < placed.size(); ++b) {
+      const Section &s = placed[a].first, &t = placed[b].first;
+      if (s.side != t.side || s.last < t.first || t.last < s.first) continue;
+      throw ConfigError(file, placed[b].second,
+                        "shares the cells " + std::to_string(std::max(s.first, t.first)) + " to " +
+                            std::to_string(std::min(s.last, t.last)) + " of its side with " +
+                            placed[a].second + ": move one of them");
+    }
+}
+
+// The speed of the waves critical flow carries at discharge q per unit width (m/s): u + c with
+// u = c = sqrt(g h_c), h_c = (q^2 / g)^(1/3).
+double critical_wave_speed(double q) {
+  constexpr double g = 9.81;
+  const double h = std::cbrt(q * q / g);
+  return 2 * std::sqrt(g * h);
+}
+
+double check_run_length(const ReachConfig& c, const ReachModel& m, const std::string& file) {
+  const Grid& g = m.solver->grid();
+  const double frames = c.end_time / c.output_every;
+  if (frames > kMaxReachFrames)
+    throw ConfigError(file, "/output_every",
+                      "the run would write " + number(frames) + " frames (end_time / " +
+                          "output_every), above " + number(kMaxReachFrames) +
+                          ": write them less often");
+  const double cfl_step = m.wave_speed > 0 ? c.cfl * std::min(g.dx, g.dy) / m.wave_speed : c.max_dt;
+  const double step = std::min(c.max_dt, cfl_step);
+  const double steps = std::ceil(c.end_time / step);
+  if (steps <= c.max_steps) return steps;
+  const std::string key = step == c.max_dt ? "/max_dt" : c.cfl < 0.05 ? "/cfl" : m.wave_speed_key;
+  throw ConfigError(
+      file, key,
+      "the run would take at least " + number(steps) + " steps of at most " + number(step) +
+          " s to reach /end_time = " + number(c.end_time) + " s (waves of " + number(m.wave_speed) +
+          " m/s from " + m.wave_speed_key + " on " + number(std::min(g.dx, g.dy)) +
+          " m cells at /cfl = " + number(c.cfl) + "), above /max_steps = " + number(c.max_steps) +
+          ": check this value, or raise /max_steps to run it");
+}
+
+}  // namespace reach
