@@ -195,6 +195,7 @@ struct ForecastConfig {
   double end_time = 21600, time_step = 60, output_every = 1800;
   int seed = 1;
   std::string start_date = "2000-01-01T00:00:00Z";
+  int max_steps = 1000000;
   template <class V>
   void describe(V& v) {
     v.field("name", name, param("", "Name of the forecast"));
@@ -223,6 +224,11 @@ struct ForecastConfig {
             param("",
                   "UTC clock time of forecast time 0, YYYY-MM-DDTHH:MM:SSZ (for the NetCDF "
                   "and the GeoJSON's times)"));
+    v.field("max_steps", max_steps,
+            param("",
+                  "Refuse a forecast whose time steps times the drift's sub-steps (estimated "
+                  "from the fastest flow at the start and the strongest wind) exceed this")
+                .at_least(1));
   }
   void check(const std::string& file, const std::string& pointer) const {
     if (centreline.size() < 2)

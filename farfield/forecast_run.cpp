@@ -12,9 +12,11 @@
 
 #include "common/exit_codes.h"
 #include "common/image_writer.h"
+#include "common/memory_limit.h"
 #include "common/output_folder.h"
 #include "common/progress.h"
 #include "common/svg_plot.h"
+#include "farfield/forecast_checks.h"
 #include "farfield/forecast_map.h"
 #include "farfield/geojson_output.h"
 #include "farfield/lon_lat.h"
@@ -131,6 +133,7 @@ ForecastSetup build_forecast(const ForecastConfig& c, const std::string& file) {
   } catch (const std::invalid_argument& e) {
     throw ConfigError(file, "/centreline", e.what());
   }
+  check_centreline_on_water(s.centreline, c, *reach_flow, file);
 
   // Banks.
   std::vector<BankClass> classes;
@@ -159,13 +162,11 @@ ForecastSetup build_forecast(const ForecastConfig& c, const std::string& file) {
       if (st.side == "both" || (st.side == "left") == (side == BankSide::left))
         stretches.push_back({side, st.from_km * 1000, st.to_km * 1000, index});
   }
-  s.banks = Banks(s.centreline, c.banks.bin_length, classes,
-                  class_of(c.banks.default_class, "/banks/default_class"), stretches);
-
-  // Weather.
+  // Weather (first: the size check below reads the wind).
   Environment& env = s.environment;
   env.water_temperature_c = covering_series(c.environment.water_temperature, c.end_time, file,
                                             "/environment/water_temperature", false);
+  check_water_temperature(env.water_temperature_c, file, "/environment/water_temperature");
   env.wind_speed =
       covering_series(c.environment.wind_speed, c.end_time, file, "/environment/wind_speed", true);
   env.wind_from_deg =
@@ -174,6 +175,10 @@ ForecastSetup build_forecast(const ForecastConfig& c, const std::string& file) {
     env.wave_height = covering_series(*c.environment.wave_height, c.end_time, file,
                                       "/environment/wave_height", true);
   env.ice = c.environment.ice;
+  check_forecast_size(c, *reach_flow, s.centreline, env.wind_speed.peak(),
+                      common::physical_memory_bytes(), file);
+  s.banks = Banks(s.centreline, c.banks.bin_length, classes,
+                  class_of(c.banks.default_class, "/banks/default_class"), stretches);
   s.drift = c.drift;
   s.drift.seed = std::uint64_t(c.seed);
 
@@ -341,6 +346,8 @@ nlohmann::json run_forecast(const ForecastRunOptions& o) {
     shores.push_back(std::move(shore));
     const WeatherNow w = setup.model.environment.weather_at(t);
     snapshots.push_back(element_snapshot(model, lon_lat, w.water_temperature_c, w.water_density));
+    if (o.stop && o.stop->load())
+      throw common::Interrupted("forecast interrupted; nothing written");
     if (o.pictures) {
       char name[64];
       std::snprintf(name, sizeof name, "png/map_%05zu.png", outputs.size() - 1);
@@ -385,10 +392,18 @@ nlohmann::json run_forecast(const ForecastRunOptions& o) {
   }
   if (o.log) progress.finish(std::to_string(model.elements().size()) + " elements");
 
+  // A Ctrl-C while the outputs are written keeps the contract too: exit 130, nothing written.
+  const auto check_stop = [&] {
+    if (o.stop && o.stop->load())
+      throw common::Interrupted("forecast interrupted; nothing written");
+  };
+  check_stop();
   write_budget(dir, outputs);
+  check_stop();
   write_slick_geojson((dir / "slick.geojson").string(), slicks, flow.grid(), flow.crs_wkt());
   write_shoreline_geojson((dir / "shoreline.geojson").string(), shores, model.setup().centreline,
                           model.setup().banks, flow.crs_wkt());
+  check_stop();
   NetcdfAttributes attributes;
   attributes.title = config.name;
   attributes.summary = config.description;
@@ -398,6 +413,7 @@ nlohmann::json run_forecast(const ForecastRunOptions& o) {
   attributes.crs_wkt = flow.crs_wkt();
   attributes.history = "spill-sim forecast --config " + o.config_file;
   write_trajectory_netcdf((dir / "elements.nc").string(), snapshots, attributes);
+  check_stop();
 
   const double wall =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
@@ -464,6 +480,7 @@ nlohmann::json run_forecast(const ForecastRunOptions& o) {
          "arrival_s: the first step's end at which oil (floating or stranded) "
          "lay within the radius; null: not reached"}}}};
   std::ofstream((dir / "forecast.json")) << summary.dump(2) << "\n";
+  check_stop();
   folder.commit();
   return summary;
 }

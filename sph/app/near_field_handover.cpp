@@ -1,6 +1,7 @@
 #include "sph/app/near_field_handover.h"
 
 #include <cmath>
+#include <filesystem>
 #include <iostream>
 
 #include "common/config_error.h"
@@ -76,6 +77,7 @@ struct FrameParcels {
 
 NearFieldHandover run_near_field_handover(const std::string& scene_file,
                                           const std::vector<std::string>& overrides,
+                                          const FarFieldReachRun& far_field,
                                           const std::atomic<bool>* stop, std::ostream* log,
                                           bool terminal) {
   const LoadedScene scene = load_scene(scene_file, overrides);
@@ -87,6 +89,13 @@ NearFieldHandover run_near_field_handover(const std::string& scene_file,
   if (c.leaks.empty())
     throw common::ConfigError(scene_file, "/leaks", "the near field has no leak to hand over");
   const ReachWindowConfig& w = *c.terrain->reach;
+  std::error_code unused;
+  if (!std::filesystem::equivalent(w.run, far_field.folder, unused))
+    throw common::ConfigError(far_field.config_file, far_field.pointer,
+                              scene_file + " sits in the reach run " + w.run +
+                                  ", the far field flows on " + far_field.folder +
+                                  ": its oil would be handed over on another river; give both "
+                                  "the same run");
   reach::NearFieldWindow box;
   box.heading_deg = double(w.heading);
   box.centre_x = w.centre[0];

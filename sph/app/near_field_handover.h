@@ -33,10 +33,19 @@ struct NearFieldHandover {
   nlohmann::json summary;         // for forecast.json
 };
 
+// The reach run the far field flows on, which the near field must sit in too (a near field in
+// another run would hand its oil over at places of another river); `config_file` and `pointer`
+// name the forecast's key when it does not.
+struct FarFieldReachRun {
+  std::string folder, config_file, pointer;
+};
+
 // Throws ConfigError naming the scene file for a scene that is not a near field inside a reach
-// run or has no oil leak; SimulationError when the run fails; RunInterrupted on request.
+// run or has no oil leak, and naming the far field's key when the scene's reach run is not
+// `far_field`'s; SimulationError when the run fails; RunInterrupted on request.
 NearFieldHandover run_near_field_handover(const std::string& scene_file,
                                           const std::vector<std::string>& overrides,
+                                          const FarFieldReachRun& far_field,
                                           const std::atomic<bool>* stop, std::ostream* log,
                                           bool terminal);
 

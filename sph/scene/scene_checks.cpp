@@ -202,7 +202,7 @@ void check_outlets(const SceneConfig& c, const std::string& file) {
 
 void check_scene(const SceneConfig& scene, const std::string& file) {
   check_consistency(scene, file);
-  check_scene_size(scene, file, physical_memory_bytes());
+  check_scene_size(scene, file, common::physical_memory_bytes());
   check_outlets(scene, file);
   check_emitters_inside(scene, file);
 }

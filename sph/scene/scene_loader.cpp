@@ -25,7 +25,7 @@ std::shared_ptr<const Terrain> load_terrain(const TerrainConfig& c, const std::s
     throw ConfigError(file, "/terrain/file", "expected a height map file for source " + c.source);
   Terrain t;
   if (c.source == "river") {
-    check_river_grid_size(c.river, file, "/terrain/river", physical_memory_bytes());
+    check_river_grid_size(c.river, file, "/terrain/river", common::physical_memory_bytes());
     t = generate_river(c.river);
   } else if (c.source == "asc") {
     t = read_esri_ascii(resolve(c.file));

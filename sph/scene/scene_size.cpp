@@ -1,8 +1,5 @@
 #include "sph/scene/scene_size.h"
 
-#include <sys/resource.h>
-#include <unistd.h>
-
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -43,19 +40,6 @@ double points_along(double length, double spacing) {
 }
 
 }  // namespace
-
-double physical_memory_bytes() {
-  const long pages = sysconf(_SC_PHYS_PAGES), page = sysconf(_SC_PAGE_SIZE);
-  double bytes = pages > 0 && page > 0 ? double(pages) * double(page) : 1e15;  // unknown: no bound
-  // A process limited below the machine (ulimit -v or -d, as the input fuzzer runs it) can use
-  // only that much.
-  for (const int resource : {RLIMIT_AS, RLIMIT_DATA}) {
-    rlimit limit{};
-    if (getrlimit(resource, &limit) == 0 && limit.rlim_cur != RLIM_INFINITY)
-      bytes = std::min(bytes, double(limit.rlim_cur));
-  }
-  return bytes;
-}
 
 void check_river_grid_size(const RiverGeneratorConfig& r, const std::string& file,
                            const std::string& pointer, double memory_bytes) {

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "common/memory_limit.h"
 #include "sph/scene/scene.h"
 
 namespace sph {
@@ -14,9 +15,6 @@ namespace sph {
 // Bytes of memory one particle takes, neighbour lists included: measured 730 B from the resident
 // size of the tank (hydrostatic.json) at 56k and 148k particles. A floor, not a ceiling.
 constexpr double kBytesPerParticle = 700;
-
-// The memory this process may use in bytes: the machine's, or less under a resource limit.
-double physical_memory_bytes();
 
 // Refuses a generated river whose height grid cannot be held in `memory_bytes` or indexed by an
 // int, naming the setting that makes it so large. Called before the grid is generated.

@@ -8,6 +8,7 @@
 #include <unistd.h>
 
 #include <array>
+#include <atomic>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -16,6 +17,7 @@
 #include <sstream>
 
 #include "common/config_error.h"
+#include "common/exit_codes.h"
 #include "common/json_file.h"
 #include "farfield/forecast_run.h"
 #include "reach/raster.h"
@@ -240,4 +242,68 @@ TEST(ForecastCommand, ANearFieldForecastRefusesBadInputBeforeTheNearField) {
   EXPECT_NE(said.find("/oil"), std::string::npos) << said;
   EXPECT_EQ(said.find("near field"), std::string::npos) << "the near field ran first:\n" << said;
   EXPECT_FALSE(fs::exists(out));
+}
+
+// Input that is wrong but would run and look right is refused before any work, naming the key.
+TEST_F(Forecast, PlausibleButWrongInputIsRefusedBeforeAnyWork) {
+  const auto names = [](const std::string& message, const std::string& key) {
+    return message.find("forecast.json:" + key + ":") != std::string::npos;
+  };
+  // Water at 293 "degrees": kelvin by mistake (it evaporated 80 % instead of 19 %).
+  std::string m = refusal({"/environment/water_temperature/value=293"});
+  EXPECT_TRUE(names(m, "/environment/water_temperature")) << m;
+  EXPECT_NE(m.find("reads as kelvin"), std::string::npos) << m;
+  // A centreline far from the reach (a leading edge of 3,889 km), or beside it on the bank.
+  m = refusal({"/centreline=[[1771995, 9472040], [1771005, 9472040]]"});
+  EXPECT_TRUE(names(m, "/centreline/0")) << m;
+  m = refusal({"/centreline=[[1771995, 5472004], [1771005, 5472004]]"});
+  EXPECT_TRUE(names(m, "/centreline")) << m;
+  EXPECT_NE(m.find("% of its"), std::string::npos) << m;
+  // Work that would not end: steps, the drift's sub-steps, a run for ever on a steady reach.
+  m = refusal({"/time_step=1e-6", "/output_every=300"});
+  EXPECT_TRUE(names(m, "/time_step")) << m;
+  m = refusal({"/drift/max_cells_per_substep=1e-9"});
+  EXPECT_TRUE(names(m, "/drift/max_cells_per_substep")) << m;
+  m = refusal({"/end_time=1e12", "/environment/wind_speed={\"value\": 3}"});
+  EXPECT_TRUE(names(m, "/end_time")) << m;
+  EXPECT_NE(m.find("/max_steps"), std::string::npos) << m;
+  // Memory that is not there: two billion elements, bank bins of a micrometre.
+  m = refusal({"/releases/0/elements=2000000000"});
+  EXPECT_TRUE(names(m, "/releases")) << m;
+  EXPECT_NE(m.find("GB"), std::string::npos) << m;
+  m = refusal({"/banks/bin_length=1e-6"});
+  EXPECT_TRUE(names(m, "/banks/bin_length")) << m;
+}
+
+namespace {
+// A log that raises the stop flag when the forecast says its steps are done: a Ctrl-C arriving
+// while the outputs are written.
+class StopWhenDone : public std::stringbuf {
+ public:
+  explicit StopWhenDone(std::atomic<bool>& stop) : stop_(stop) {}
+  int sync() override {
+    if (str().find("done in") != std::string::npos) stop_ = true;
+    return 0;
+  }
+
+ private:
+  std::atomic<bool>& stop_;
+};
+}  // namespace
+
+// A Ctrl-C while the outputs are written ends the run with Interrupted (exit 130) and nothing
+// written; it was swallowed, the run finishing and exiting 0 seconds later.
+TEST_F(Forecast, AnInterruptionWhileWritingLeavesNothing) {
+  std::ofstream(dir_ / "forecast.json") << config().dump(2);
+  std::atomic<bool> stop{false};
+  StopWhenDone buffer(stop);
+  std::ostream log(&buffer);
+  farfield::ForecastRunOptions o;
+  o.config_file = (dir_ / "forecast.json").string();
+  o.out_dir = (dir_ / "interrupted").string();
+  o.stop = &stop;
+  o.log = &log;
+  EXPECT_THROW(farfield::run_forecast(o), common::Interrupted);
+  EXPECT_TRUE(stop.load()) << "the steps never finished";
+  EXPECT_FALSE(fs::exists(dir_ / "interrupted"));
 }

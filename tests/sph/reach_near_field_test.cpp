@@ -285,8 +285,21 @@ TEST_F(ReachNearField, TheOilHandedOverIsTheOilThatLeftOrRemainsInTheBox) {
                      {"start", 0.2},
                      {"duration", duration}}};
   std::ofstream(dir_ / "leak_scene.json") << scene.dump(2);
+  // A far field on another reach run (here a copy of the flume's) is refused before any SPH.
+  fs::copy(dir_ / "flume_run", dir_ / "other_run", fs::copy_options::recursive);
+  try {
+    run_near_field_handover((dir_ / "leak_scene.json").string(), {},
+                            {(dir_ / "other_run").string(), "forecast.json", "/near_field/scene"},
+                            nullptr, nullptr, false);
+    ADD_FAILURE() << "a near field in another reach run than the far field's was accepted";
+  } catch (const common::ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("forecast.json:/near_field/scene"), std::string::npos)
+        << e.what();
+  }
   const NearFieldHandover near =
-      run_near_field_handover((dir_ / "leak_scene.json").string(), {}, nullptr, nullptr, false);
+      run_near_field_handover((dir_ / "leak_scene.json").string(), {},
+                              {(dir_ / "flume_run").string(), "forecast.json", "/near_field/scene"},
+                              nullptr, nullptr, false);
   const double particle = std::pow(0.04, 3);
   ASSERT_NEAR(near.particle_volume_m3, particle, 1e-6 * particle);  // in float
   EXPECT_NEAR(near.left_m3 + near.remaining_m3, rate * duration, particle);

@@ -65,9 +65,10 @@ Command add_forecast_command(CLI::App& app, const CommandContext& context) {
               // The far field's own input first, so that a bad key is said before the near
               // field's minutes of SPH, not after.
               farfield::build_forecast(config, run.config_file);
-              const NearFieldHandover near =
-                  run_near_field_handover(config.near_field->scene, config.near_field->set,
-                                          run.stop, run.log, run.terminal);
+              const NearFieldHandover near = run_near_field_handover(
+                  config.near_field->scene, config.near_field->set,
+                  {config.flow.reach_run, run.config_file, "/near_field/scene"}, run.stop, run.log,
+                  run.terminal);
               for (const NearFieldParcel& p : near.parcels)
                 run.handover.push_back({p.t, p.x, p.y, p.volume, p.area});
               std::stable_sort(run.handover.begin(), run.handover.end(),

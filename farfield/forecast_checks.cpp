@@ -1,0 +1,114 @@
+#include "farfield/forecast_checks.h"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+#include "common/config_error.h"
+
+namespace farfield {
+
+namespace {
+
+std::string number(double v) {
+  std::ostringstream s;
+  s << v;
+  return s.str();
+}
+
+}  // namespace
+
+void check_water_temperature(const reach::Hydrograph& celsius, const std::string& file,
+                             const std::string& pointer) {
+  for (const auto& [t, c] : celsius.points()) {
+    if (c >= kColdestWaterC && c <= kWarmestWaterC) continue;
+    const bool kelvin = c >= 273.15 + kColdestWaterC && c <= 273.15 + kWarmestWaterC;
+    throw common::ConfigError(
+        file, pointer,
+        number(c) + " at " + number(t) + " s is not a river's water temperature in degrees " +
+            "Celsius (" + number(kColdestWaterC) + " to " + number(kWarmestWaterC) + ")" +
+            (kelvin ? ": it reads as kelvin, " + number(c) + " K is " + number(c - 273.15) +
+                          " degrees Celsius"
+                    : std::string()));
+  }
+}
+
+void check_centreline_on_water(const Centreline& line, const ForecastConfig& c,
+                               const ReachFlow& flow, const std::string& file) {
+  const reach::Grid& g = flow.grid();
+  for (size_t k = 0; k < c.centreline.size(); ++k) {
+    const double x = c.centreline[k][0], y = c.centreline[k][1];
+    if (flow.sample(x, y, 0).where == FlowWhere::outside)
+      throw common::ConfigError(file, "/centreline/" + std::to_string(k),
+                                "(" + number(x) + ", " + number(y) +
+                                    ") lies outside the reach's grid (" + number(g.x0) + ", " +
+                                    number(g.y0) + " to " + number(g.x0 + g.nx * g.dx) + ", " +
+                                    number(g.y0 + g.ny * g.dy) + ")");
+  }
+  // Points every cell along the line: at least half must be on water (a line drawn on a map
+  // may cut a bend's bank, but not run beside the river).
+  const double step = std::min(g.dx, g.dy);
+  const long points = std::max(2L, long(std::ceil(line.length() / step)) + 1);
+  long wet = 0;
+  for (long k = 0; k < points; ++k) {
+    double x, y;
+    line.point_at(line.length() * double(k) / double(points - 1), 0, x, y);
+    wet += flow.sample(x, y, 0).where == FlowWhere::water;
+  }
+  if (2 * wet < points)
+    throw common::ConfigError(file, "/centreline",
+                              "only " + number(std::round(100.0 * double(wet) / double(points))) +
+                                  " % of its " + number(line.length()) +
+                                  " m lies on the reach's water at the start: the leading edge "
+                                  "and the banks are measured along it; draw it down the river");
+}
+
+void check_forecast_size(const ForecastConfig& c, const ReachFlow& flow, const Centreline& line,
+                         double peak_wind, double memory_bytes, const std::string& file) {
+  // Steps and sub-steps: the fastest surface flow at the start (the log law raises the depth's
+  // mean by at most about a third) plus the wind's drift.
+  const reach::WaterState w = flow.water_at(0);
+  double fastest = 0;
+  for (size_t k = 0; k < w.h.size(); ++k)
+    if (w.h[k] > 0.01) fastest = std::max(fastest, std::hypot(w.hu[k], w.hv[k]) / w.h[k]);
+  const double speed = 1.35 * fastest + c.drift.wind_factor * peak_wind;
+  const double substeps = std::max(
+      1.0, std::ceil(speed * c.time_step / (c.drift.max_cells_per_substep * flow.resolution())));
+  const double steps = std::ceil(c.end_time / c.time_step - 1e-9);
+  if (steps * substeps > c.max_steps) {
+    const std::string key = substeps > 100    ? "/drift/max_cells_per_substep"
+                            : c.time_step < 1 ? "/time_step"
+                                              : "/end_time";
+    throw common::ConfigError(
+        file, key,
+        "the forecast would take " + number(steps) + " steps of " + number(c.time_step) +
+            " s to /end_time = " + number(c.end_time) + " s, each of " + number(substeps) +
+            " drift sub-steps (" + number(speed) + " m/s over " + number(flow.resolution()) +
+            " m cells at /drift/max_cells_per_substep = " + number(c.drift.max_cells_per_substep) +
+            "): " + number(steps * substeps) + " in all, above /max_steps = " +
+            number(c.max_steps) + ": check this value, or raise /max_steps to run it");
+  }
+  // Memory: the elements (the releases'; a near field's parcels come later) and a snapshot of
+  // each at every output.
+  double elements = 0;
+  for (const auto& r : c.releases) elements += r.elements;
+  const double outputs = std::floor(c.end_time / c.output_every) + 2;
+  const double element_bytes = elements * (kBytesPerElement + outputs * kBytesPerElementOutput);
+  if (element_bytes > memory_bytes)
+    throw common::ConfigError(
+        file, "/releases",
+        number(elements) + " elements with their snapshots at " + number(outputs) +
+            " outputs need at least " + number(element_bytes / 1e9) + " GB, this process may use " +
+            number(memory_bytes / 1e9) + " GB: fewer elements, or outputs less often");
+  // The bank bins, each with its holdings at every output.
+  const double bins = std::ceil(line.length() / c.banks.bin_length) + 1;
+  const double bin_bytes = bins * 2 * (64 + outputs * 16);
+  if (bins > 1e8 || bin_bytes > memory_bytes)
+    throw common::ConfigError(file, "/banks/bin_length",
+                              number(bins) + " bins of " + number(c.banks.bin_length) +
+                                  " m along the " + number(line.length()) + " m centreline need " +
+                                  number(bin_bytes / 1e9) +
+                                  " GB (and at most 1e8 bins are counted): use longer bins");
+}
+
+}  // namespace farfield
