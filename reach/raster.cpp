@@ -25,11 +25,22 @@ using DatasetHandle = std::unique_ptr<GDALDataset, DatasetCloser>;
 
 }  // namespace
 
-Raster read_raster(const std::string& path) {
+namespace {
+
+// The open dataset and its grid (its georeferencing checked); values not read.
+struct OpenRaster {
+  DatasetHandle dataset;
+  Raster header;  // grid and CRS, no values
+  bool north_up = true;
+};
+
+OpenRaster open_raster(const std::string& path) {
   register_drivers();
   CPLPushErrorHandler(CPLQuietErrorHandler);
-  DatasetHandle d(GDALDataset::Open(path.c_str(), GDAL_OF_RASTER | GDAL_OF_READONLY));
+  OpenRaster o;
+  o.dataset.reset(GDALDataset::Open(path.c_str(), GDAL_OF_RASTER | GDAL_OF_READONLY));
   CPLPopErrorHandler();
+  GDALDataset* d = o.dataset.get();
   if (!d) {
     const std::string why = CPLGetLastErrorMsg();
     throw RasterError(path + ": GDAL cannot open it as a raster" +
@@ -46,28 +57,62 @@ Raster read_raster(const std::string& path) {
   if (!(gt[1] > 0) || gt[5] == 0)
     throw RasterError(path + ": pixel size " + std::to_string(gt[1]) + " x " +
                       std::to_string(gt[5]) + " is not usable");
-  Raster r;
+  Raster& r = o.header;
   r.grid.nx = d->GetRasterXSize();
   r.grid.ny = d->GetRasterYSize();
   r.grid.dx = gt[1];
   r.grid.dy = std::abs(gt[5]);
   r.grid.x0 = gt[0];
-  const bool north_up = gt[5] < 0;
-  r.grid.y0 = north_up ? gt[3] + gt[5] * r.grid.ny : gt[3];
+  o.north_up = gt[5] < 0;
+  r.grid.y0 = o.north_up ? gt[3] + gt[5] * r.grid.ny : gt[3];
   const char* wkt = d->GetProjectionRef();
   r.crs_wkt = wkt ? wkt : "";
+  return o;
+}
 
-  GDALRasterBand* band = d->GetRasterBand(1);
+}  // namespace
+
+Raster raster_header(const std::string& path) {
+  return open_raster(path).header;
+}
+
+CellBlock cells_within(const Grid& g, double x_min, double y_min, double x_max, double y_max) {
+  CellBlock b;
+  b.i0 = std::max(0, int(std::ceil((x_min - g.x0) / g.dx - 0.5)));
+  b.i1 = std::min(g.nx - 1, int(std::floor((x_max - g.x0) / g.dx - 0.5)));
+  b.j0 = std::max(0, int(std::ceil((y_min - g.y0) / g.dy - 0.5)));
+  b.j1 = std::min(g.ny - 1, int(std::floor((y_max - g.y0) / g.dy - 0.5)));
+  return b;
+}
+
+Raster read_raster(const std::string& path, const std::vector<double>& window) {
+  OpenRaster o = open_raster(path);
+  const Grid whole = o.header.grid;
+  CellBlock block{0, whole.nx - 1, 0, whole.ny - 1};
+  if (!window.empty()) {
+    block = cells_within(whole, window[0], window[1], window[2], window[3]);
+    if (block.empty())
+      return crop(o.header, window[0], window[1], window[2], window[3],
+                  "the window");  // throws, naming the raster's extent
+  }
+  Raster r = o.header;
+  r.grid.nx = block.i1 - block.i0 + 1;
+  r.grid.ny = block.j1 - block.j0 + 1;
+  r.grid.x0 = whole.x0 + block.i0 * whole.dx;
+  r.grid.y0 = whole.y0 + block.j0 * whole.dy;
+  // The file's rows run north to south when north-up: the block's first row is its northernmost.
+  const int first_row = o.north_up ? whole.ny - 1 - block.j1 : block.j0;
+  GDALRasterBand* band = o.dataset->GetRasterBand(1);
   std::vector<double> rows(r.grid.cells());
-  if (band->RasterIO(GF_Read, 0, 0, r.grid.nx, r.grid.ny, rows.data(), r.grid.nx, r.grid.ny,
-                     GDT_Float64, 0, 0) != CE_None)
+  if (band->RasterIO(GF_Read, block.i0, first_row, r.grid.nx, r.grid.ny, rows.data(), r.grid.nx,
+                     r.grid.ny, GDT_Float64, 0, 0) != CE_None)
     throw RasterError(path + ": reading band 1 failed (" + CPLGetLastErrorMsg() + ")");
   int has_nodata = 0;
   const double nodata = band->GetNoDataValue(&has_nodata);
   r.values.assign(r.grid.cells(), 0.0);
   size_t valid = 0;
   for (int row = 0; row < r.grid.ny; ++row) {
-    const int j = north_up ? r.grid.ny - 1 - row : row;
+    const int j = o.north_up ? r.grid.ny - 1 - row : row;
     for (int i = 0; i < r.grid.nx; ++i) {
       double v = rows[size_t(row) * size_t(r.grid.nx) + size_t(i)];
       if ((has_nodata && (v == nodata || (std::isnan(nodata) && std::isnan(v)))) ||
@@ -78,7 +123,9 @@ Raster read_raster(const std::string& path) {
       r.values[r.grid.at(i, j)] = v;
     }
   }
-  if (valid == 0) throw RasterError(path + ": every cell is nodata");
+  if (valid == 0)
+    throw RasterError(path + ": every cell" + (window.empty() ? "" : " in the window") +
+                      " is nodata");
   return r;
 }
 
@@ -116,11 +163,9 @@ void write_geotiff(const std::string& path, const Raster& r) {
 
 Raster crop(const Raster& r, double x_min, double y_min, double x_max, double y_max,
             const std::string& what) {
-  const int i0 = std::max(0, int(std::ceil((x_min - r.grid.x0) / r.grid.dx - 0.5)));
-  const int i1 = std::min(r.grid.nx - 1, int(std::floor((x_max - r.grid.x0) / r.grid.dx - 0.5)));
-  const int j0 = std::max(0, int(std::ceil((y_min - r.grid.y0) / r.grid.dy - 0.5)));
-  const int j1 = std::min(r.grid.ny - 1, int(std::floor((y_max - r.grid.y0) / r.grid.dy - 0.5)));
-  if (i1 < i0 || j1 < j0)
+  const CellBlock b = cells_within(r.grid, x_min, y_min, x_max, y_max);
+  const int i0 = b.i0, i1 = b.i1, j0 = b.j0, j1 = b.j1;
+  if (b.empty())
     throw RasterError(what + ": no cell of the raster lies inside it (the raster spans x " +
                       std::to_string(r.grid.x0) + " to " +
                       std::to_string(r.grid.x0 + r.grid.nx * r.grid.dx) + ", y " +

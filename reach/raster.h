@@ -7,6 +7,7 @@
 // The coordinate reference system is carried as WKT; nodata becomes NaN.
 
 #include <string>
+#include <vector>
 
 #include "common/exit_codes.h"
 #include "reach/grid.h"
@@ -25,9 +26,22 @@ struct Raster {
   std::string crs_wkt;  // empty when the file has none
 };
 
-// Band 1 of `path`. Refuses (RasterError naming the file) a file GDAL cannot open, a rotated or
-// sheared geotransform, and a raster with no valid cell.
-Raster read_raster(const std::string& path);
+// Band 1 of `path`, or only its cells whose centres lie in `window` ([x_min, y_min, x_max,
+// y_max], map coordinates; what crop() keeps), read from the file without the rest. Refuses
+// (RasterError naming the file) a file GDAL cannot open, a rotated or sheared geotransform, a
+// window with no cell, and a raster or window with no valid cell.
+Raster read_raster(const std::string& path, const std::vector<double>& window = {});
+
+// The raster's grid and CRS without reading its values (to size what reading it would take).
+Raster raster_header(const std::string& path);
+
+// The cells of a grid whose centres lie in [x_min, x_max] x [y_min, y_max].
+struct CellBlock {
+  int i0 = 0, i1 = -1, j0 = 0, j1 = -1;
+  bool empty() const { return i1 < i0 || j1 < j0; }
+  double cells() const { return empty() ? 0.0 : double(i1 - i0 + 1) * double(j1 - j0 + 1); }
+};
+CellBlock cells_within(const Grid& grid, double x_min, double y_min, double x_max, double y_max);
 
 // Writes `raster` as a single-band Float32 GeoTIFF (DEFLATE) with nodata -9999 where a value is
 // NaN, its geotransform and CRS. Throws std::runtime_error naming the file when GDAL fails.

@@ -75,6 +75,30 @@ double critical_wave_speed(double q) {
   return 2 * std::sqrt(g * h);
 }
 
+void check_terrain_size(const Raster& header, const TerrainConfig& t, double memory_bytes,
+                        const std::string& file) {
+  const Grid& g = header.grid;
+  CellBlock block{0, g.nx - 1, 0, g.ny - 1};
+  if (!t.window.empty()) {
+    block = cells_within(g, t.window[0], t.window[1], t.window[2], t.window[3]);
+    if (block.empty())
+      throw ConfigError(file, "/terrain/window",
+                        "no cell of " + t.file + " lies inside it (the raster spans x " +
+                            number(g.x0) + " to " + number(g.x0 + g.nx * g.dx) + ", y " +
+                            number(g.y0) + " to " + number(g.y0 + g.ny * g.dy) + ")");
+  }
+  const double read = block.cells() * kBytesPerCellRead * (t.manning_file.empty() ? 1 : 2);
+  const double run = std::ceil((block.i1 - block.i0 + 1) / double(t.coarsen)) *
+                     std::ceil((block.j1 - block.j0 + 1) / double(t.coarsen)) * kBytesPerReachCell;
+  if (read + run <= memory_bytes) return;
+  throw ConfigError(file, t.window.empty() || read > run ? "/terrain/window" : "/terrain/coarsen",
+                    number(block.cells()) + " cells of " + t.file + " need " + number(read / 1e9) +
+                        " GB to read and " + number(run / 1e9) + " GB to run (coarsened " +
+                        std::to_string(t.coarsen) + " times), this process may use " +
+                        number(memory_bytes / 1e9) +
+                        " GB: run a smaller /terrain/window or a larger /terrain/coarsen");
+}
+
 double check_run_length(const ReachConfig& c, const ReachModel& m, const std::string& file) {
   const Grid& g = m.solver->grid();
   const double frames = c.end_time / c.output_every;

@@ -39,6 +39,17 @@ void check_covers(const SeriesConfig& series, const Hydrograph& values, double e
 void check_sections_apart(const std::vector<std::pair<Section, std::string>>& placed,
                           const std::string& config_file);
 
+// Bytes one cell of the solver's grid takes in a run: the solver's state, bed and roughness, a
+// step's padded scratch arrays and face fluxes, and the run's maxima and frame fields (counted
+// from the structures: a floor). Reading a raster holds 16 bytes per cell read.
+constexpr double kBytesPerReachCell = 350, kBytesPerCellRead = 16;
+
+// Refuses a terrain (its cells in the window, or all of them; the Manning raster's too) that
+// cannot be read, or whose coarsened grid cannot be run, within `memory_bytes`, naming
+// /terrain/window or /terrain/coarsen; and a window with no cell of the raster.
+void check_terrain_size(const Raster& header, const TerrainConfig& terrain, double memory_bytes,
+                        const std::string& config_file);
+
 // The speed of the waves critical flow carries at discharge q per unit width (m/s).
 double critical_wave_speed(double q);
 

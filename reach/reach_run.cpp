@@ -12,6 +12,7 @@
 
 #include "common/axis_ticks.h"
 #include "common/checked_file.h"
+#include "common/memory_limit.h"
 #include "common/output_folder.h"
 #include "common/progress.h"
 #include "reach/channel_carving.h"
@@ -107,7 +108,11 @@ std::string frame_stamp(double t, double previous, double interval) {
 
 ReachModel build_reach(const ReachConfig& c, const std::string& file) {
   ReachModel m;
-  Raster r = read_raster(c.terrain.file);
+  // Sized first, then only the window read: a 20,000 x 20,000 raster was read whole (7 GB)
+  // before the window applied.
+  check_terrain_size(raster_header(c.terrain.file), c.terrain, common::physical_memory_bytes(),
+                     file);
+  Raster r = read_raster(c.terrain.file, c.terrain.window);
   if (!c.terrain.crs.empty()) {
     try {
       r.crs_wkt = crs_wkt_of(c.terrain.crs);
@@ -130,21 +135,15 @@ ReachModel build_reach(const ReachConfig& c, const std::string& file) {
   Field manning;
   Raster n_raster;
   if (!c.terrain.manning_file.empty()) {
-    n_raster = read_raster(c.terrain.manning_file);
-    if (n_raster.grid.nx != r.grid.nx || n_raster.grid.ny != r.grid.ny)
+    const Raster n_header = raster_header(c.terrain.manning_file);
+    const Raster header = raster_header(c.terrain.file);
+    if (n_header.grid.nx != header.grid.nx || n_header.grid.ny != header.grid.ny)
       throw ConfigError(file, "/terrain/manning_file",
-                        c.terrain.manning_file + " is " + std::to_string(n_raster.grid.nx) + " x " +
-                            std::to_string(n_raster.grid.ny) + " cells, the terrain " +
-                            std::to_string(r.grid.nx) + " x " + std::to_string(r.grid.ny));
-  }
-  if (!c.terrain.window.empty()) {
-    const auto& w = c.terrain.window;
-    try {
-      r = crop(r, w[0], w[1], w[2], w[3], "the window");
-      if (!n_raster.values.empty()) n_raster = crop(n_raster, w[0], w[1], w[2], w[3], "the window");
-    } catch (const RasterError& e) {
-      throw ConfigError(file, "/terrain/window", e.what());
-    }
+                        c.terrain.manning_file + " is " + std::to_string(n_header.grid.nx) + " x " +
+                            std::to_string(n_header.grid.ny) + " cells, the terrain " +
+                            std::to_string(header.grid.nx) + " x " +
+                            std::to_string(header.grid.ny));
+    n_raster = read_raster(c.terrain.manning_file, c.terrain.window);
   }
   if (c.terrain.coarsen > 1) {
     r = coarsen(r, c.terrain.coarsen);

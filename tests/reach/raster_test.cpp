@@ -124,3 +124,36 @@ TEST(Raster, RefusesWhatItCannotUseNamingTheFile) {
   EXPECT_NE(error_of([&] { reach::read_raster(empty.string()); }).find("every cell is nodata"),
             std::string::npos);
 }
+
+// A window read from the file holds exactly the cells that reading it whole and cropping kept,
+// north-up or not, without reading the rest (a 20,000 x 20,000 raster was read whole, 7 GB,
+// before the window applied).
+TEST(Raster, AWindowReadFromTheFileIsTheWholeRasterCropped) {
+  reach::Raster r;
+  r.grid.nx = 37, r.grid.ny = 23, r.grid.dx = 2, r.grid.dy = 3;
+  r.grid.x0 = 1000, r.grid.y0 = 5000;
+  for (int j = 0; j < r.grid.ny; ++j)
+    for (int i = 0; i < r.grid.nx; ++i) r.values.push_back(i == 5 && j == 7 ? NAN : i + 100 * j);
+  r.crs_wkt = reach::crs_wkt_of("EPSG:2193");
+  const fs::path path = temp_file("window.tif");
+  reach::write_geotiff(path.string(), r);
+  const reach::Raster whole = reach::read_raster(path.string());
+  for (const std::vector<double>& w : std::vector<std::vector<double>>{
+           {1010, 5020, 1030, 5040}, {990, 4990, 1005, 5100}, {1070, 5060, 2000, 6000}}) {
+    const reach::Raster cropped = reach::crop(whole, w[0], w[1], w[2], w[3], "the window");
+    const reach::Raster read = reach::read_raster(path.string(), w);
+    ASSERT_EQ(read.grid.nx, cropped.grid.nx);
+    ASSERT_EQ(read.grid.ny, cropped.grid.ny);
+    EXPECT_EQ(read.grid.x0, cropped.grid.x0);
+    EXPECT_EQ(read.grid.y0, cropped.grid.y0);
+    for (size_t k = 0; k < read.values.size(); ++k)
+      if (std::isnan(cropped.values[k]))
+        EXPECT_TRUE(std::isnan(read.values[k]));
+      else
+        EXPECT_EQ(read.values[k], cropped.values[k]) << k;
+  }
+  EXPECT_NE(error_of([&] {
+              reach::read_raster(path.string(), {0, 0, 10, 10});
+            }).find("window"),
+            std::string::npos);
+}

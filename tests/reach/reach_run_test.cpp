@@ -276,3 +276,35 @@ TEST_F(ReachRun, ARunTooLongToEndIsRefusedNamingWhatShortensItsSteps) {
       refusal({"/end_time=600", "/max_steps=" + std::to_string(long(least))});
   EXPECT_NE(stopped.find("/max_steps: the run passed"), std::string::npos) << stopped;
 }
+
+// A terrain too large to read or run within the memory this process may use is refused before
+// reading it, naming the window (read) or the coarsening (run).
+TEST_F(ReachRun, ATerrainBeyondTheMemoryIsRefusedBeforeItIsRead) {
+  const reach::Raster header = reach::raster_header((dir_ / "channel.tif").string());
+  EXPECT_EQ(header.grid.nx, 40);
+  EXPECT_TRUE(header.values.empty());
+  reach::TerrainConfig t;
+  t.file = "channel.tif";
+  const double cells = 40 * 8;
+  const double need = cells * (reach::kBytesPerCellRead + reach::kBytesPerReachCell);
+  EXPECT_NO_THROW(reach::check_terrain_size(header, t, need, "reach.json"));
+  try {
+    reach::check_terrain_size(header, t, need - 1, "reach.json");
+    ADD_FAILURE() << "a terrain over the memory was accepted";
+  } catch (const common::ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("reach.json:/terrain/window: 320 cells"),
+              std::string::npos)
+        << e.what();
+  }
+  // Read it fits, run it does not: coarsen it.
+  t.window = {1771000, 5472000, 1771400, 5472080};
+  try {
+    reach::check_terrain_size(header, t, cells * reach::kBytesPerCellRead * 2, "reach.json");
+    ADD_FAILURE() << "a grid over the memory was accepted";
+  } catch (const common::ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("/terrain/coarsen"), std::string::npos) << e.what();
+  }
+  t.coarsen = 4;  // 10 x 2 cells
+  EXPECT_NO_THROW(reach::check_terrain_size(
+      header, t, cells * reach::kBytesPerCellRead + 20 * reach::kBytesPerReachCell, "reach.json"));
+}
