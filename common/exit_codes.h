@@ -34,14 +34,16 @@ inline int exit_code(const std::exception& e) {
 }
 
 // Prints "PROGRAM: error: WHAT" (or "PROGRAM: WHAT" for an interruption) and returns the code.
-inline int report_error(std::ostream& out, const std::string& program, const std::exception& e) {
+// Running out of memory is said in words, with `smaller` saying how to make this command's work
+// smaller (what it allocates: particles, a reach's cells, a forecast's elements).
+inline int report_error(std::ostream& out, const std::string& program, const std::exception& e,
+                        const std::string& smaller = "use fewer or larger particles") {
   const int code = exit_code(e);
-  // The scene size check estimates memory from below; what still does not fit ends here.
+  // The size checks estimate memory from below; what still does not fit ends here.
   const std::string what = dynamic_cast<const std::bad_alloc*>(&e)
-                               ? std::string(
-                                     "out of memory: the work needs more than this "
-                                     "process may use (std::bad_alloc); use fewer or "
-                                     "larger particles, or a machine with more memory")
+                               ? "out of memory: the work needs more than this process may use "
+                                 "(std::bad_alloc); " +
+                                     smaller + ", or a machine with more memory"
                                : std::string(e.what());
   out << "\n" << program << (code == 130 ? ": " : ": error: ") << what << "\n";
   return code;

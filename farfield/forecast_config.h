@@ -41,7 +41,8 @@ struct FlowConfig {
                   "The reach run's output time at which the forecast starts (< 0: its last; a "
                   "steady run's last output holds for ever after)"));
     v.field("manning", manning,
-            param("s/m^(1/3)", "Manning's n for the drift's log law (< 0: the reach run's)"));
+            param("s/m^(1/3)", "Manning's n for the drift's log law (< 0: the reach run's)")
+                .at_most(reach::kMaxManning));
     v.field("dry_depth", dry_depth,
             param("m", "Shallower water is shore: an element reaching it strands").positive());
   }

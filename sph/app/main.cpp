@@ -20,6 +20,7 @@
 #include <CLI/CLI.hpp>
 #include <iostream>
 #include <stdexcept>
+#include <string>
 #include <vector>
 
 #include "common/command_line.h"
@@ -47,11 +48,20 @@ int main(int argc, char** argv) {
       sph::add_forecast_bench_command(app, context),
   };
   if (const auto stop = common::parse_command_line(app, argc, argv)) return *stop;
+  // What each command allocates, for an out-of-memory message that says how to make it smaller.
+  std::string smaller = "use fewer or larger particles";
   try {
-    for (const auto& command : commands)
-      if (command.cli->parsed()) return command.run();
+    for (const auto& command : commands) {
+      if (!command.cli->parsed()) continue;
+      const std::string name = command.cli->get_name();
+      if (name.rfind("reach", 0) == 0)
+        smaller = "run a smaller /terrain/window or a larger /terrain/coarsen";
+      else if (name.rfind("forecast", 0) == 0)
+        smaller = "release fewer elements, write outputs less often or use longer bank bins";
+      return command.run();
+    }
   } catch (const std::exception& e) {
-    return common::report_error(std::cerr, "spill-sim", e);
+    return common::report_error(std::cerr, "spill-sim", e, smaller);
   }
   return 0;
 }

@@ -19,4 +19,9 @@ TEST(ExitCodes, EachKindOfErrorHasItsCodeAndAMessage) {
   out.str("");
   EXPECT_EQ(common::report_error(out, "p", std::bad_alloc()), 1);
   EXPECT_NE(out.str().find("out of memory"), std::string::npos) << out.str();
+  // A command that allocates no particles says what it does allocate.
+  out.str("");
+  EXPECT_EQ(common::report_error(out, "p", std::bad_alloc(), "release fewer elements"), 1);
+  EXPECT_NE(out.str().find("release fewer elements, or a machine"), std::string::npos) << out.str();
+  EXPECT_EQ(out.str().find("particles"), std::string::npos) << out.str();
 }

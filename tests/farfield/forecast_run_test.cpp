@@ -273,6 +273,12 @@ TEST_F(Forecast, PlausibleButWrongInputIsRefusedBeforeAnyWork) {
   EXPECT_NE(m.find("GB"), std::string::npos) << m;
   m = refusal({"/banks/bin_length=1e-6"});
   EXPECT_TRUE(names(m, "/banks/bin_length")) << m;
+  // Values that ran to the end and failed there, naming the staging folder or PROJ.
+  m = refusal({"/banks/bin_length=1e9"});
+  EXPECT_TRUE(names(m, "/banks/bin_length")) << m;
+  EXPECT_NE(m.find("longer than the centreline"), std::string::npos) << m;
+  m = refusal({"/flow/manning=1e9"});
+  EXPECT_TRUE(names(m, "/flow/manning")) << m;
 }
 
 namespace {
