@@ -41,10 +41,12 @@ ReachFlow::ReachFlow(const ReachFlowRequest& q) : dry_depth_(q.dry_depth) {
   if (q.start_time >= 0) {
     std::string times;
     bool found = false;
+    // The output nearest the time asked, within half a second (frames may be closer than that).
     for (const auto& f : frames) {
       const double t = f.at("t_s").get<double>();
       times += (times.empty() ? "" : ", ") + std::to_string(std::lround(t));
-      if (std::abs(t - q.start_time) <= 0.5) {
+      if (std::abs(t - q.start_time) <= 0.5 &&
+          (!found || std::abs(t - q.start_time) < std::abs(start - q.start_time))) {
         start = t;
         found = true;
       }
@@ -60,9 +62,10 @@ ReachFlow::ReachFlow(const ReachFlowRequest& q) : dry_depth_(q.dry_depth) {
   for (const auto& f : frames) {
     const double t = f.at("t_s").get<double>();
     if (t < start - 0.5) continue;
+    // Velocities are nodata where dry: a frame of a dry start has none at all.
     const auto raster = [&](const char* what) {
       const reach::Raster r =
-          reach::read_raster((dir / f.at("files").at(what).get<std::string>()).string());
+          reach::read_raster((dir / f.at("files").at(what).get<std::string>()).string(), {}, true);
       if (r.grid.nx != grid_.nx || r.grid.ny != grid_.ny)
         throw refuse("/reach_run", q.run_dir + ": the " + what + " raster at " +
                                        std::to_string(std::lround(t)) +

@@ -82,14 +82,19 @@ NearFieldWindow sample_near_field(const NearFieldRequest& q) {
     for (const auto& f : frames) {
       const double t = f.at("t_s").get<double>();
       times += (times.empty() ? "" : ", ") + std::to_string(std::lround(t));
-      if (std::abs(t - q.time) <= 0.5) frame = &f;
+      // The output nearest the time asked, within half a second (frames may be closer).
+      if (std::abs(t - q.time) <= 0.5 &&
+          (!frame || std::abs(t - q.time) < std::abs((*frame).at("t_s").get<double>() - q.time)))
+        frame = &f;
     }
     if (!frame)
       throw refuse("/time", "the reach run has no output at " + std::to_string(q.time) +
                                 " s (its outputs: " + times + " s)");
   }
+  // Velocities are nodata where dry (a frame of a dry start has none at all); the box's own
+  // check refuses a box with no water.
   const auto raster = [&](const char* what) {
-    return read_raster((dir / (*frame).at("files").at(what).get<std::string>()).string());
+    return read_raster((dir / (*frame).at("files").at(what).get<std::string>()).string(), {}, true);
   };
   const Raster bed = read_raster((dir / "bed.tif").string());
   const Raster depth = raster("depth"), vx = raster("velocity_x"), vy = raster("velocity_y");

@@ -85,7 +85,8 @@ CellBlock cells_within(const Grid& g, double x_min, double y_min, double x_max, 
   return b;
 }
 
-Raster read_raster(const std::string& path, const std::vector<double>& window) {
+Raster read_raster(const std::string& path, const std::vector<double>& window,
+                   bool allow_all_nodata) {
   OpenRaster o = open_raster(path);
   const Grid whole = o.header.grid;
   CellBlock block{0, whole.nx - 1, 0, whole.ny - 1};
@@ -123,7 +124,7 @@ Raster read_raster(const std::string& path, const std::vector<double>& window) {
       r.values[r.grid.at(i, j)] = v;
     }
   }
-  if (valid == 0)
+  if (valid == 0 && !allow_all_nodata)
     throw RasterError(path + ": every cell" + (window.empty() ? "" : " in the window") +
                       " is nodata");
   return r;

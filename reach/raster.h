@@ -29,8 +29,10 @@ struct Raster {
 // Band 1 of `path`, or only its cells whose centres lie in `window` ([x_min, y_min, x_max,
 // y_max], map coordinates; what crop() keeps), read from the file without the rest. Refuses
 // (RasterError naming the file) a file GDAL cannot open, a rotated or sheared geotransform, a
-// window with no cell, and a raster or window with no valid cell.
-Raster read_raster(const std::string& path, const std::vector<double>& window = {});
+// window with no cell, and (unless `allow_all_nodata`: a velocity raster of a dry reach) a
+// raster or window with no valid cell.
+Raster read_raster(const std::string& path, const std::vector<double>& window = {},
+                   bool allow_all_nodata = false);
 
 // The raster's grid and CRS without reading its values (to size what reading it would take).
 Raster raster_header(const std::string& path);

@@ -108,11 +108,19 @@ std::string frame_stamp(double t, double previous, double interval) {
 
 ReachModel build_reach(const ReachConfig& c, const std::string& file) {
   ReachModel m;
+  // A raster that cannot be used is named with the key that gave it.
+  const auto keyed = [&](const char* pointer, auto read) {
+    try {
+      return read();
+    } catch (const RasterError& e) {
+      throw ConfigError(file, pointer, e.what());
+    }
+  };
+  const Raster header = keyed("/terrain/file", [&] { return raster_header(c.terrain.file); });
   // Sized first, then only the window read: a 20,000 x 20,000 raster was read whole (7 GB)
   // before the window applied.
-  check_terrain_size(raster_header(c.terrain.file), c.terrain, common::physical_memory_bytes(),
-                     file);
-  Raster r = read_raster(c.terrain.file, c.terrain.window);
+  check_terrain_size(header, c.terrain, common::physical_memory_bytes(), file);
+  Raster r = keyed("/terrain/file", [&] { return read_raster(c.terrain.file, c.terrain.window); });
   if (!c.terrain.crs.empty()) {
     try {
       r.crs_wkt = crs_wkt_of(c.terrain.crs);
@@ -135,15 +143,16 @@ ReachModel build_reach(const ReachConfig& c, const std::string& file) {
   Field manning;
   Raster n_raster;
   if (!c.terrain.manning_file.empty()) {
-    const Raster n_header = raster_header(c.terrain.manning_file);
-    const Raster header = raster_header(c.terrain.file);
+    const Raster n_header =
+        keyed("/terrain/manning_file", [&] { return raster_header(c.terrain.manning_file); });
     if (n_header.grid.nx != header.grid.nx || n_header.grid.ny != header.grid.ny)
       throw ConfigError(file, "/terrain/manning_file",
                         c.terrain.manning_file + " is " + std::to_string(n_header.grid.nx) + " x " +
                             std::to_string(n_header.grid.ny) + " cells, the terrain " +
                             std::to_string(header.grid.nx) + " x " +
                             std::to_string(header.grid.ny));
-    n_raster = read_raster(c.terrain.manning_file, c.terrain.window);
+    n_raster = keyed("/terrain/manning_file",
+                     [&] { return read_raster(c.terrain.manning_file, c.terrain.window); });
   }
   if (c.terrain.coarsen > 1) {
     r = coarsen(r, c.terrain.coarsen);

@@ -31,7 +31,7 @@ struct ReachModel {
   std::string wave_speed_key;
 };
 
-// Throws ConfigError (naming `config_file` and the key) or RasterError (naming the raster) for
+// Throws ConfigError (naming `config_file` and the key, and the raster when it is at fault) for
 // input that does not fit: a raster GDAL cannot open, no or a geographic CRS or one not in
 // metres, elevations not finite or beyond Earth's, a window or a section outside the raster, a
 // section with no open cell, two sections sharing cells, a Manning raster of another grid or

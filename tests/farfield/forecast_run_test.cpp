@@ -20,6 +20,7 @@
 #include "common/exit_codes.h"
 #include "common/json_file.h"
 #include "farfield/forecast_run.h"
+#include "farfield/reach_flow.h"
 #include "reach/raster.h"
 #include "reach/reach_run.h"
 
@@ -312,4 +313,18 @@ TEST_F(Forecast, AnInterruptionWhileWritingLeavesNothing) {
   EXPECT_THROW(farfield::run_forecast(o), common::Interrupted);
   EXPECT_TRUE(stop.load()) << "the steps never finished";
   EXPECT_FALSE(fs::exists(dir_ / "interrupted"));
+}
+
+// The flow of a reach that starts dry: its first output's velocity rasters are nodata everywhere,
+// which a forecast starting there reads as still water (it failed with "every cell is nodata").
+TEST_F(Forecast, AReachOutputWithNoWaterReadsAsDry) {
+  farfield::ReachFlowRequest q;
+  q.run_dir = (dir_ / "reach_run").string();
+  q.start_time = 0;
+  q.config_file = "forecast.json";
+  q.pointer = "/flow";
+  const farfield::ReachFlow flow(q);
+  const farfield::FlowSample s = flow.sample(1771500, 5472040, 0);
+  EXPECT_NE(s.where, farfield::FlowWhere::water);
+  EXPECT_EQ(s.u, 0);
 }

@@ -116,7 +116,9 @@ TEST_F(ReachRun, BadInputIsRefusedNamingTheKey) {
   EXPECT_NE(refusal({"/inflows/0/section/from=5471000", "/inflows/0/section/to=5471100"})
                 .find("/inflows/0/section"),
             std::string::npos);
-  EXPECT_NE(refusal({"/terrain/file=missing.tif"}).find("missing.tif"), std::string::npos);
+  const std::string missing = refusal({"/terrain/file=missing.tif"});
+  EXPECT_NE(missing.find("reach.json:/terrain/file: "), std::string::npos) << missing;
+  EXPECT_NE(missing.find("missing.tif"), std::string::npos) << missing;
   EXPECT_NE(refusal({"/terrain/crs=EPSG:4326"}).find("geographic"), std::string::npos);
   EXPECT_NE(refusal({"/terrain/crs=EPSG:999999"}).find("/terrain/crs"), std::string::npos);
   EXPECT_NE(refusal({"/inflows/0/discharge={\"value\": -1}"}).find("/inflows/0/discharge"),
