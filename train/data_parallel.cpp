@@ -4,6 +4,8 @@
 #include <csignal>
 #include <cstdlib>
 #include <stdexcept>
+#include <string>
+#include <thread>
 
 #include "common/exit_codes.h"
 
@@ -84,7 +86,51 @@ LaunchEnvironment read_launch_environment() {
 
 struct DataParallel::Group {
   c10::intrusive_ptr<c10d::ProcessGroupGloo> pg;
+  c10::intrusive_ptr<c10d::Store> store;  // kept for the roll call after a failed collective
 };
+
+namespace {
+
+// LibTorch's message without the C++ backtrace it appends (a user reads the first line).
+std::string message_of(const std::exception& e) {
+  const auto* c10_error = dynamic_cast<const c10::Error*>(&e);
+  std::string text = c10_error ? c10_error->what_without_backtrace() : e.what();
+  const size_t trace = text.find("\nException raised from");
+  if (trace != std::string::npos) text.resize(trace);
+  if (text.size() > 300) text = text.substr(0, 300) + "...";
+  return text;
+}
+
+// How long the ranks that are left wait for each other's answer after a collective failed.
+constexpr std::chrono::milliseconds kRollCallWait{5000};
+
+// After a failed collective: each rank still running writes its name to the store and looks
+// for the others' for a few seconds; those that never answer are named. A rank that cannot
+// reach the store names rank 0, whose process holds it.
+std::string roll_call(c10d::Store& store, int rank, int world) {
+  try {
+    store.set("roll_call/" + std::to_string(rank), std::vector<uint8_t>{1});
+    const auto deadline = std::chrono::steady_clock::now() + kRollCallWait;
+    std::vector<int> silent;
+    do {
+      silent.clear();
+      for (int r = 0; r < world; ++r)
+        if (r != rank && !store.check({"roll_call/" + std::to_string(r)})) silent.push_back(r);
+      if (silent.empty()) break;
+      std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    } while (std::chrono::steady_clock::now() < deadline);
+    if (silent.empty()) return "every rank still answers (the network?)";
+    std::string names;
+    for (int r : silent) names += (names.empty() ? "" : ", ") + std::to_string(r);
+    return (silent.size() == 1 ? "rank " : "ranks ") + names + " did not answer within " +
+           std::to_string(kRollCallWait.count() / 1000) + " s (stopped, or stuck behind the one " +
+           "that did)";
+  } catch (const std::exception&) {
+    return "rank 0, whose process holds the ranks' store, stopped (the store cannot be reached)";
+  }
+}
+
+}  // namespace
 
 std::unique_ptr<DataParallel> DataParallel::connect(const LaunchEnvironment& launch,
                                                     std::chrono::milliseconds timeout) {
@@ -97,11 +143,17 @@ std::unique_ptr<DataParallel> DataParallel::connect(const LaunchEnvironment& lau
   o.port = std::uint16_t(launch.master_port);
   o.isServer = launch.rank == 0 && !launch.agent_store;
   if (!launch.agent_store) o.numWorkers = std::size_t(launch.world);
-  o.waitWorkers = !launch.agent_store;
+  // Gloo's connections wait for the other ranks (within the same deadline); the store's own
+  // wait for its workers ran past it by seconds.
+  o.waitWorkers = false;
   o.timeout = timeout;
   c10::intrusive_ptr<c10d::Store> store;
+  // One deadline for joining: the store's wait for the other ranks and Gloo's connections
+  // share it (each waited the whole timeout: 32 s for 15).
+  const auto start = std::chrono::steady_clock::now();
   try {
-    store = c10::make_intrusive<c10d::TCPStore>(launch.master_addr, o);
+    auto tcp = c10::make_intrusive<c10d::TCPStore>(launch.master_addr, o);
+    store = tcp;
     if (launch.agent_store)
       store = c10::make_intrusive<c10d::PrefixStore>(
           "/worker/attempt_" + std::to_string(launch.restart), store);
@@ -116,9 +168,15 @@ std::unique_ptr<DataParallel> DataParallel::connect(const LaunchEnvironment& lau
       options->devices.push_back(c10d::ProcessGroupGloo::createDeviceForInterface(interface));
     else
       options->devices.push_back(c10d::ProcessGroupGloo::createDefaultDevice());
+    const auto spent = std::chrono::duration_cast<std::chrono::milliseconds>(
+        std::chrono::steady_clock::now() - start);
+    if (spent >= timeout) throw std::runtime_error("the other ranks did not join");
+    tcp->setTimeout(timeout - spent);
     auto group = std::make_unique<Group>();
     group->pg =
         c10::make_intrusive<c10d::ProcessGroupGloo>(store, launch.rank, launch.world, options);
+    tcp->setTimeout(timeout);
+    group->store = store;
     return std::unique_ptr<DataParallel>(
         new DataParallel(launch.rank, launch.world, std::move(group)));
   } catch (const std::exception& e) {
@@ -126,7 +184,7 @@ std::unique_ptr<DataParallel> DataParallel::connect(const LaunchEnvironment& lau
                              std::to_string(launch.world) + ": cannot join the process group at " +
                              launch.master_addr + ":" + std::to_string(launch.master_port) +
                              " within " + std::to_string(timeout.count() / 1000) +
-                             " s: " + std::string(e.what()).substr(0, 300));
+                             " s: " + message_of(e));
   }
 }
 
@@ -134,12 +192,11 @@ void DataParallel::run(const char* what, const std::function<void()>& collective
   try {
     collective();
   } catch (const std::exception& e) {
-    // Gloo names the peer's address; the rank is ours. A peer that died closes its
-    // connections, one that hangs runs into the timeout.
+    // Gloo names the peer's address, not its rank: the roll call finds which rank is gone. A
+    // peer that died closes its connections, one that hangs runs into the timeout.
     throw std::runtime_error("rank " + std::to_string(rank_) + " of " + std::to_string(world_) +
-                             ": the " + what +
-                             " with the other ranks failed (a rank stopped, or the network): " +
-                             std::string(e.what()).substr(0, 300));
+                             ": the " + what + " with the other ranks failed: " +
+                             roll_call(*group_->store, rank_, world_) + "; " + message_of(e));
   }
 }
 

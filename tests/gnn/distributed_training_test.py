@@ -19,10 +19,11 @@ batch of 4 windows, 20 steps):
     namespaces cannot be made (they need root);
   - a run of two ranks to step 10, resumed by one process to step 20, ends as the reference
     (within 1e-3 relative): the checkpoint holds every rank's streams;
-  - a launch without MASTER_ADDR exits 2 naming it; a rank killed mid-run makes the other stop
-    within its --collective-timeout with an error naming its rank (not killed silently by
-    SIGPIPE, which ranks ignore), leaving no temporary file and a last checkpoint that one
-    process resumes.
+  - a launch without MASTER_ADDR exits 2 naming it; a rank whose peer never starts gives up
+    within its --collective-timeout, without a C++ backtrace; a rank killed mid-run makes the
+    other stop within its --collective-timeout with an error naming its rank and the dead one
+    (not killed silently by SIGPIPE, which ranks ignore), leaving no temporary file and a last
+    checkpoint that one process resumes.
 """
 
 import csv
@@ -266,7 +267,21 @@ def main():
               f"no MASTER_ADDR: exit {p.returncode}: {p.stderr}")
         check(not os.path.exists(os.path.join(work, "bad")), "a refused launch left a folder")
 
-        # A rank that dies: the other stops within its timeout, naming its rank.
+        # A rank that never starts: the other gives up within its --collective-timeout (it
+        # waited twice as long), with a message and no C++ backtrace.
+        env = dict(plain_env(), RANK="0", WORLD_SIZE="2", MASTER_ADDR="127.0.0.1",
+                   MASTER_PORT=str(free_port()))
+        start = time.time()
+        p = subprocess.run([train, *args(os.path.join(work, "alone"), 20, "--collective-timeout",
+                                         "5")], env=env, capture_output=True, text=True)
+        waited = time.time() - start
+        check(p.returncode == 1 and "rank 0 of 2: cannot join" in p.stderr,
+              f"a rank alone: exit {p.returncode}: {p.stderr[-1000:]}")
+        check(waited < 8, f"a rank alone gave up after {waited:.1f} s for a 5 s timeout")
+        check("frame #" not in p.stderr and "Exception raised from" not in p.stderr,
+              f"a C++ backtrace follows the message: {p.stderr[-1000:]}")
+
+        # A rank that dies: the other stops within its timeout, naming its rank and the dead one.
         dying = os.path.join(work, "dying")
         procs = launch_ranks(train, args(dying, 100000, "--collective-timeout", "20"), 2)
         deadline = time.time() + 120
@@ -290,6 +305,8 @@ def main():
         # the dead peer's socket killed rank 0 before it could say anything.
         check(procs[0].returncode > 0, f"rank 0 was killed by signal {-procs[0].returncode}")
         check("rank 0 of 2" in err, f"the error does not name the rank: {err[-1000:]}")
+        check("rank 1 did not answer" in err, f"the survivor does not name the dead rank: {err[-1000:]}")
+        check("frame #" not in err, f"a C++ backtrace follows the message: {err[-1000:]}")
         check(time.time() - start < 45, f"rank 0 took {time.time() - start:.0f} s to stop")
         left = [n for n in os.listdir(dying) if "tmp" in n] if os.path.exists(dying) else []
         check(not left, f"temporary files left: {left}")
