@@ -99,6 +99,17 @@ void check_terrain_size(const Raster& header, const TerrainConfig& t, double mem
                         " GB: run a smaller /terrain/window or a larger /terrain/coarsen");
 }
 
+void check_carried(double peak, double width, const std::string& file, const std::string& pointer) {
+  const double depth = std::cbrt(peak * peak / (width * width) / 9.81);
+  if (depth <= kDeepestCriticalFlow) return;
+  throw ConfigError(file, pointer,
+                    "a peak of " + number(peak) + " m^3/s over " + number(width) + " m would run " +
+                        number(depth) +
+                        " m deep at critical flow, deeper than "
+                        "any river (" +
+                        number(kDeepestCriticalFlow) + " m): check the units");
+}
+
 double check_run_length(const ReachConfig& c, const ReachModel& m, const std::string& file) {
   const Grid& g = m.solver->grid();
   const double frames = c.end_time / c.output_every;

@@ -53,6 +53,16 @@ void check_terrain_size(const Raster& header, const TerrainConfig& terrain, doub
 // The speed of the waves critical flow carries at discharge q per unit width (m/s).
 double critical_wave_speed(double q);
 
+// No river runs deeper than this at critical flow (the Amazon's 200,000 m^3/s over 5 km is
+// 5.5 m): a discharge that would is not one the grid can carry.
+constexpr double kDeepestCriticalFlow = 100;
+
+// Refuses an inflow whose peak discharge over `width` would run deeper than
+// kDeepestCriticalFlow at critical flow, naming `pointer` (a discharge of 4e9 m^3/s over 60 m
+// ran at steps of 0.2 ms).
+void check_carried(double peak, double width, const std::string& config_file,
+                   const std::string& pointer);
+
 // The number of steps `model` needs at least to reach the config's end time (its steps are at
 // most max_dt and the CFL step of model.wave_speed). Throws ConfigError, naming the key that
 // limits the step, when that exceeds max_steps, or when the frames exceed kMaxReachFrames.

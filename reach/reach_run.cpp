@@ -221,6 +221,7 @@ ReachModel build_reach(const ReachConfig& c, const std::string& file) {
     const double width =
         in.section ? (b.section.last - b.section.first + 1) * (along_y ? r.grid.dy : r.grid.dx)
                    : std::sqrt(double(b.area.size()) * r.grid.cell_area());
+    check_carried(b.discharge.peak(), width, file, p + "/discharge");
     consider_wave(critical_wave_speed(b.discharge.peak() / width), p + "/discharge");
     m.solver->add_inflow(b);
   }

@@ -260,6 +260,11 @@ TEST_F(ReachRun, PlausibleButWrongInputIsRefusedNamingTheKey) {
 TEST_F(ReachRun, ARunTooLongToEndIsRefusedNamingWhatShortensItsSteps) {
   EXPECT_NE(refusal({"/inflows/0/discharge={\"value\": 1e30}"}).find("/inflows/0/discharge"),
             std::string::npos);
+  // 4e9 m^3/s at the start of a hydrograph (the fuzzer's case ran for minutes at 0.2 ms steps)
+  // would run 77 km deep; 6,000 m^3/s over the 60 m section (7.7 m) is a flood it can carry.
+  const std::string deep = refusal({"/inflows/0/discharge={\"points\": [[0, 4e9], [7200, 6]]}"});
+  EXPECT_NE(deep.find("/inflows/0/discharge: a peak of 4e+09"), std::string::npos) << deep;
+  EXPECT_EQ(refusal({"/inflows/0/discharge={\"value\": 6000}", "/end_time=10"}), "");
   EXPECT_NE(refusal({"/cfl=1e-9"}).find("/cfl"), std::string::npos);
   EXPECT_NE(refusal({"/max_dt=1e-9"}).find("/max_dt"), std::string::npos);
   EXPECT_NE(refusal({"/output_every=1e-12"}).find("/output_every"), std::string::npos);
