@@ -64,8 +64,8 @@ ReachFlow::ReachFlow(const ReachFlowRequest& q) : dry_depth_(q.dry_depth) {
     if (t < start - 0.5) continue;
     // Velocities are nodata where dry: a frame of a dry start has none at all.
     const auto raster = [&](const char* what) {
-      const reach::Raster r =
-          reach::read_raster((dir / f.at("files").at(what).get<std::string>()).string(), {}, true);
+      const reach::Raster r = reach::read_raster(
+          (dir / f.at("files").at(what).get<std::string>()).string(), {{}, 1, true});
       if (r.grid.nx != grid_.nx || r.grid.ny != grid_.ny)
         throw refuse("/reach_run", q.run_dir + ": the " + what + " raster at " +
                                        std::to_string(std::lround(t)) +

@@ -94,7 +94,8 @@ NearFieldWindow sample_near_field(const NearFieldRequest& q) {
   // Velocities are nodata where dry (a frame of a dry start has none at all); the box's own
   // check refuses a box with no water.
   const auto raster = [&](const char* what) {
-    return read_raster((dir / (*frame).at("files").at(what).get<std::string>()).string(), {}, true);
+    return read_raster((dir / (*frame).at("files").at(what).get<std::string>()).string(),
+                       {{}, 1, true});
   };
   const Raster bed = read_raster((dir / "bed.tif").string());
   const Raster depth = raster("depth"), vx = raster("velocity_x"), vy = raster("velocity_y");

@@ -85,48 +85,73 @@ CellBlock cells_within(const Grid& g, double x_min, double y_min, double x_max, 
   return b;
 }
 
-Raster read_raster(const std::string& path, const std::vector<double>& window,
-                   bool allow_all_nodata) {
+Raster read_raster(const std::string& path, const RasterRead& how) {
+  if (how.coarsen < 1) throw std::invalid_argument("a coarsening factor must be >= 1");
   OpenRaster o = open_raster(path);
   const Grid whole = o.header.grid;
   CellBlock block{0, whole.nx - 1, 0, whole.ny - 1};
-  if (!window.empty()) {
-    block = cells_within(whole, window[0], window[1], window[2], window[3]);
+  const auto& w = how.window;
+  if (!w.empty()) {
+    block = cells_within(whole, w[0], w[1], w[2], w[3]);
     if (block.empty())
-      return crop(o.header, window[0], window[1], window[2], window[3],
-                  "the window");  // throws, naming the raster's extent
+      return crop(o.header, w[0], w[1], w[2], w[3], "the window");  // throws, naming the extent
   }
+  // The block at full resolution, then its blocks of `coarsen` cells a side averaged over their
+  // valid cells, as coarsen() does (in its order, so the sums are the same), one strip of rows
+  // at a time: only a strip of the fine raster is held.
+  const int f = how.coarsen;
+  Grid fine = whole;
+  fine.nx = block.i1 - block.i0 + 1;
+  fine.ny = block.j1 - block.j0 + 1;
+  fine.x0 = whole.x0 + block.i0 * whole.dx;
+  fine.y0 = whole.y0 + block.j0 * whole.dy;
   Raster r = o.header;
-  r.grid.nx = block.i1 - block.i0 + 1;
-  r.grid.ny = block.j1 - block.j0 + 1;
-  r.grid.x0 = whole.x0 + block.i0 * whole.dx;
-  r.grid.y0 = whole.y0 + block.j0 * whole.dy;
-  // The file's rows run north to south when north-up: the block's first row is its northernmost.
-  const int first_row = o.north_up ? whole.ny - 1 - block.j1 : block.j0;
+  r.grid = fine;
+  r.grid.nx = (fine.nx + f - 1) / f;
+  r.grid.ny = (fine.ny + f - 1) / f;
+  r.grid.dx = fine.dx * f;
+  r.grid.dy = fine.dy * f;
+  r.values.assign(r.grid.cells(), std::nan(""));
   GDALRasterBand* band = o.dataset->GetRasterBand(1);
-  std::vector<double> rows(r.grid.cells());
-  if (band->RasterIO(GF_Read, block.i0, first_row, r.grid.nx, r.grid.ny, rows.data(), r.grid.nx,
-                     r.grid.ny, GDT_Float64, 0, 0) != CE_None)
-    throw RasterError(path + ": reading band 1 failed (" + CPLGetLastErrorMsg() + ")");
   int has_nodata = 0;
   const double nodata = band->GetNoDataValue(&has_nodata);
-  r.values.assign(r.grid.cells(), 0.0);
+  std::vector<double> rows, strip;  // the strip's rows as the file holds them; in grid order
   size_t valid = 0;
-  for (int row = 0; row < r.grid.ny; ++row) {
-    const int j = o.north_up ? r.grid.ny - 1 - row : row;
-    for (int i = 0; i < r.grid.nx; ++i) {
-      double v = rows[size_t(row) * size_t(r.grid.nx) + size_t(i)];
-      if ((has_nodata && (v == nodata || (std::isnan(nodata) && std::isnan(v)))) ||
-          !std::isfinite(v))
-        v = std::nan("");
-      else
-        ++valid;
-      r.values[r.grid.at(i, j)] = v;
+  for (int J = 0; J < r.grid.ny; ++J) {
+    const int j_first = J * f, rows_in = std::min(fine.ny, (J + 1) * f) - j_first;
+    // The file's rows run north to south when north-up: the strip's first is its northernmost.
+    const int first_row =
+        o.north_up ? whole.ny - 1 - (block.j0 + j_first + rows_in - 1) : block.j0 + j_first;
+    rows.resize(size_t(rows_in) * size_t(fine.nx));
+    if (band->RasterIO(GF_Read, block.i0, first_row, fine.nx, rows_in, rows.data(), fine.nx,
+                       rows_in, GDT_Float64, 0, 0) != CE_None)
+      throw RasterError(path + ": reading band 1 failed (" + CPLGetLastErrorMsg() + ")");
+    strip.resize(rows.size());
+    for (int row = 0; row < rows_in; ++row) {
+      const int j = o.north_up ? rows_in - 1 - row : row;
+      for (int i = 0; i < fine.nx; ++i) {
+        double v = rows[size_t(row) * size_t(fine.nx) + size_t(i)];
+        if ((has_nodata && (v == nodata || (std::isnan(nodata) && std::isnan(v)))) ||
+            !std::isfinite(v))
+          v = std::nan("");
+        else
+          ++valid;
+        strip[size_t(j) * size_t(fine.nx) + size_t(i)] = v;
+      }
+    }
+    for (int I = 0; I < r.grid.nx; ++I) {
+      double sum = 0;
+      int count = 0;
+      for (int j = 0; j < rows_in; ++j)
+        for (int i = I * f; i < std::min(fine.nx, (I + 1) * f); ++i) {
+          const double v = strip[size_t(j) * size_t(fine.nx) + size_t(i)];
+          if (!std::isnan(v)) sum += v, ++count;
+        }
+      if (count > 0) r.values[r.grid.at(I, J)] = f == 1 ? sum : sum / count;
     }
   }
-  if (valid == 0 && !allow_all_nodata)
-    throw RasterError(path + ": every cell" + (window.empty() ? "" : " in the window") +
-                      " is nodata");
+  if (valid == 0 && !how.allow_all_nodata)
+    throw RasterError(path + ": every cell" + (w.empty() ? "" : " in the window") + " is nodata");
   return r;
 }
 

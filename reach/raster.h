@@ -26,13 +26,21 @@ struct Raster {
   std::string crs_wkt;  // empty when the file has none
 };
 
-// Band 1 of `path`, or only its cells whose centres lie in `window` ([x_min, y_min, x_max,
-// y_max], map coordinates; what crop() keeps), read from the file without the rest. Refuses
-// (RasterError naming the file) a file GDAL cannot open, a rotated or sheared geotransform, a
-// window with no cell, and (unless `allow_all_nodata`: a velocity raster of a dry reach) a
-// raster or window with no valid cell.
-Raster read_raster(const std::string& path, const std::vector<double>& window = {},
-                   bool allow_all_nodata = false);
+// How much of a raster to read: the cells whose centres lie in `window` ([x_min, y_min, x_max,
+// y_max] in map coordinates, what crop() keeps; empty: all), averaged in blocks of `coarsen`
+// cells a side as coarsen() does; `allow_all_nodata` for a velocity raster of a dry reach.
+struct RasterRead {
+  std::vector<double> window;
+  int coarsen = 1;
+  bool allow_all_nodata = false;
+};
+
+// Band 1 of `path`, as `how` says, read from the file a strip of rows at a time (a 20,000 x
+// 20,000 raster was read whole, 7 GB, before its window and coarsening applied): the same
+// values as crop() and coarsen() of the whole. Refuses (RasterError naming the file) a file GDAL
+// cannot open, a rotated or sheared geotransform, a window with no cell, and (unless
+// allow_all_nodata) a raster or window with no valid cell.
+Raster read_raster(const std::string& path, const RasterRead& how = {});
 
 // The raster's grid and CRS without reading its values (to size what reading it would take).
 Raster raster_header(const std::string& path);

@@ -87,9 +87,12 @@ void check_terrain_size(const Raster& header, const TerrainConfig& t, double mem
                             number(g.x0) + " to " + number(g.x0 + g.nx * g.dx) + ", y " +
                             number(g.y0) + " to " + number(g.y0 + g.ny * g.dy) + ")");
   }
-  const double read = block.cells() * kBytesPerCellRead * (t.manning_file.empty() ? 1 : 2);
-  const double run = std::ceil((block.i1 - block.i0 + 1) / double(t.coarsen)) *
-                     std::ceil((block.j1 - block.j0 + 1) / double(t.coarsen)) * kBytesPerReachCell;
+  // Read a strip of `coarsen` rows at a time into the coarse grid; run on the coarse grid.
+  const double coarse = std::ceil((block.i1 - block.i0 + 1) / double(t.coarsen)) *
+                        std::ceil((block.j1 - block.j0 + 1) / double(t.coarsen));
+  const double strip = double(block.i1 - block.i0 + 1) * t.coarsen;
+  const double read = (strip + coarse) * kBytesPerCellRead * (t.manning_file.empty() ? 1 : 2);
+  const double run = coarse * kBytesPerReachCell;
   if (read + run <= memory_bytes) return;
   throw ConfigError(file, t.window.empty() || read > run ? "/terrain/window" : "/terrain/coarsen",
                     number(block.cells()) + " cells of " + t.file + " need " + number(read / 1e9) +

@@ -41,12 +41,13 @@ void check_sections_apart(const std::vector<std::pair<Section, std::string>>& pl
 
 // Bytes one cell of the solver's grid takes in a run: the solver's state, bed and roughness, a
 // step's padded scratch arrays and face fluxes, and the run's maxima and frame fields (counted
-// from the structures: a floor). Reading a raster holds 16 bytes per cell read.
+// from the structures: a floor). Reading a raster holds 16 bytes per cell of a strip of
+// `coarsen` rows and of the coarse grid.
 constexpr double kBytesPerReachCell = 350, kBytesPerCellRead = 16;
 
-// Refuses a terrain (its cells in the window, or all of them; the Manning raster's too) that
-// cannot be read, or whose coarsened grid cannot be run, within `memory_bytes`, naming
-// /terrain/window or /terrain/coarsen; and a window with no cell of the raster.
+// Refuses a terrain (the cells in its window, or all; the Manning raster's too) that cannot be
+// read, or whose coarsened grid cannot be run, within `memory_bytes`, naming /terrain/window or
+// /terrain/coarsen; and a window with no cell of the raster.
 void check_terrain_size(const Raster& header, const TerrainConfig& terrain, double memory_bytes,
                         const std::string& config_file);
 

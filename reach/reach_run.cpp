@@ -117,10 +117,12 @@ ReachModel build_reach(const ReachConfig& c, const std::string& file) {
     }
   };
   const Raster header = keyed("/terrain/file", [&] { return raster_header(c.terrain.file); });
-  // Sized first, then only the window read: a 20,000 x 20,000 raster was read whole (7 GB)
-  // before the window applied.
+  // Sized first, then only the window read, coarsened strip by strip: a 20,000 x 20,000 raster
+  // was read whole (7 GB) before the window and coarsening applied.
   check_terrain_size(header, c.terrain, common::physical_memory_bytes(), file);
-  Raster r = keyed("/terrain/file", [&] { return read_raster(c.terrain.file, c.terrain.window); });
+  Raster r = keyed("/terrain/file", [&] {
+    return read_raster(c.terrain.file, {c.terrain.window, c.terrain.coarsen});
+  });
   if (!c.terrain.crs.empty()) {
     try {
       r.crs_wkt = crs_wkt_of(c.terrain.crs);
@@ -151,12 +153,9 @@ ReachModel build_reach(const ReachConfig& c, const std::string& file) {
                             std::to_string(n_header.grid.ny) + " cells, the terrain " +
                             std::to_string(header.grid.nx) + " x " +
                             std::to_string(header.grid.ny));
-    n_raster = keyed("/terrain/manning_file",
-                     [&] { return read_raster(c.terrain.manning_file, c.terrain.window); });
-  }
-  if (c.terrain.coarsen > 1) {
-    r = coarsen(r, c.terrain.coarsen);
-    if (!n_raster.values.empty()) n_raster = coarsen(n_raster, c.terrain.coarsen);
+    n_raster = keyed("/terrain/manning_file", [&] {
+      return read_raster(c.terrain.manning_file, {c.terrain.window, c.terrain.coarsen});
+    });
   }
   check_elevations(r, c.terrain.file, file);
   if (c.terrain.channel) m.carved_cells = carve_channel(r.grid, r.values, *c.terrain.channel);

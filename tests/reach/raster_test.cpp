@@ -126,8 +126,8 @@ TEST(Raster, RefusesWhatItCannotUseNamingTheFile) {
 }
 
 // A window read from the file holds exactly the cells that reading it whole and cropping kept,
-// north-up or not, without reading the rest (a 20,000 x 20,000 raster was read whole, 7 GB,
-// before the window applied).
+// and coarsened while read the values coarsening the crop gives, without reading the rest (a 20,000
+// x 20,000 raster was read whole, 7 GB, before the window applied).
 TEST(Raster, AWindowReadFromTheFileIsTheWholeRasterCropped) {
   reach::Raster r;
   r.grid.nx = 37, r.grid.ny = 23, r.grid.dx = 2, r.grid.dy = 3;
@@ -141,7 +141,7 @@ TEST(Raster, AWindowReadFromTheFileIsTheWholeRasterCropped) {
   for (const std::vector<double>& w : std::vector<std::vector<double>>{
            {1010, 5020, 1030, 5040}, {990, 4990, 1005, 5100}, {1070, 5060, 2000, 6000}}) {
     const reach::Raster cropped = reach::crop(whole, w[0], w[1], w[2], w[3], "the window");
-    const reach::Raster read = reach::read_raster(path.string(), w);
+    const reach::Raster read = reach::read_raster(path.string(), {w});
     ASSERT_EQ(read.grid.nx, cropped.grid.nx);
     ASSERT_EQ(read.grid.ny, cropped.grid.ny);
     EXPECT_EQ(read.grid.x0, cropped.grid.x0);
@@ -152,8 +152,26 @@ TEST(Raster, AWindowReadFromTheFileIsTheWholeRasterCropped) {
       else
         EXPECT_EQ(read.values[k], cropped.values[k]) << k;
   }
+  // Coarsened while read (strips of rows, partial blocks at the north and east edges) it is
+  // coarsen() of the crop, to the bit.
+  for (const int f : {2, 3, 5}) {
+    const std::vector<double> w{1003, 5004, 1061, 5067};
+    const reach::Raster expected =
+        reach::coarsen(reach::crop(whole, w[0], w[1], w[2], w[3], "the window"), f);
+    const reach::Raster read = reach::read_raster(path.string(), {w, f});
+    ASSERT_EQ(read.grid.nx, expected.grid.nx);
+    ASSERT_EQ(read.grid.ny, expected.grid.ny);
+    EXPECT_EQ(read.grid.dx, expected.grid.dx);
+    EXPECT_EQ(read.grid.x0, expected.grid.x0);
+    EXPECT_EQ(read.grid.y0, expected.grid.y0);
+    for (size_t k = 0; k < read.values.size(); ++k)
+      if (std::isnan(expected.values[k]))
+        EXPECT_TRUE(std::isnan(read.values[k]));
+      else
+        EXPECT_EQ(read.values[k], expected.values[k]) << f << " " << k;
+  }
   EXPECT_NE(error_of([&] {
-              reach::read_raster(path.string(), {0, 0, 10, 10});
+              reach::read_raster(path.string(), {{0, 0, 10, 10}});
             }).find("window"),
             std::string::npos);
 }

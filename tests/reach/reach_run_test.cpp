@@ -293,7 +293,8 @@ TEST_F(ReachRun, ATerrainBeyondTheMemoryIsRefusedBeforeItIsRead) {
   reach::TerrainConfig t;
   t.file = "channel.tif";
   const double cells = 40 * 8;
-  const double need = cells * (reach::kBytesPerCellRead + reach::kBytesPerReachCell);
+  // A strip of one row and the grid read, the grid run.
+  const double need = (40 + cells) * reach::kBytesPerCellRead + cells * reach::kBytesPerReachCell;
   EXPECT_NO_THROW(reach::check_terrain_size(header, t, need, "reach.json"));
   try {
     reach::check_terrain_size(header, t, need - 1, "reach.json");
@@ -306,12 +307,13 @@ TEST_F(ReachRun, ATerrainBeyondTheMemoryIsRefusedBeforeItIsRead) {
   // Read it fits, run it does not: coarsen it.
   t.window = {1771000, 5472000, 1771400, 5472080};
   try {
-    reach::check_terrain_size(header, t, cells * reach::kBytesPerCellRead * 2, "reach.json");
+    reach::check_terrain_size(header, t, (40 + cells) * reach::kBytesPerCellRead * 2, "reach.json");
     ADD_FAILURE() << "a grid over the memory was accepted";
   } catch (const common::ConfigError& e) {
     EXPECT_NE(std::string(e.what()).find("/terrain/coarsen"), std::string::npos) << e.what();
   }
-  t.coarsen = 4;  // 10 x 2 cells
+  t.coarsen = 4;  // 10 x 2 cells, read in strips of 4 rows of 40
   EXPECT_NO_THROW(reach::check_terrain_size(
-      header, t, cells * reach::kBytesPerCellRead + 20 * reach::kBytesPerReachCell, "reach.json"));
+      header, t, (160 + 20) * reach::kBytesPerCellRead + 20 * reach::kBytesPerReachCell,
+      "reach.json"));
 }
