@@ -100,11 +100,6 @@ void check_forecast_size(const ForecastConfig& c, const ReachFlow& flow, const C
         number(elements) + " elements with their snapshots at " + number(outputs) +
             " outputs need at least " + number(element_bytes / 1e9) + " GB, this process may use " +
             number(memory_bytes / 1e9) + " GB: fewer elements, or outputs less often");
-  // A bin longer than the centreline has no place on it (its line ran off the map).
-  if (c.banks.bin_length > line.length())
-    throw common::ConfigError(file, "/banks/bin_length",
-                              number(c.banks.bin_length) + " m is longer than the centreline (" +
-                                  number(line.length()) + " m): use shorter bins");
   // The bank bins, each with its holdings at every output.
   const double bins = std::ceil(line.length() / c.banks.bin_length) + 1;
   const double bin_bytes = bins * 2 * (64 + outputs * 16);

@@ -4,6 +4,7 @@
 #include <gdal_priv.h>
 #include <ogrsf_frmts.h>
 
+#include <algorithm>
 #include <cmath>
 #include <memory>
 #include <stdexcept>
@@ -113,7 +114,11 @@ void write_shoreline_geojson(const std::string& path, const std::vector<ShoreSna
   for (const ShoreSnapshot& snap : snapshots)
     for (int bin = 0; bin < banks.bins(); ++bin) {
       if (!(snap.held_m3[size_t(bin)] > 0)) continue;
-      const double from = banks.bin_start(bin), to = from + banks.bin_length();
+      // A bin is drawn along the centreline only: the last (or one longer than the whole line,
+      // bin_length 1e9) ends where the line does, not thousands of km beyond it.
+      const double end = centreline.length();
+      const double from = std::min(banks.bin_start(bin), end);
+      const double to = std::min(banks.bin_start(bin) + banks.bin_length(), end);
       OGRLineString line;
       for (int k = 0; k <= 4; ++k) {
         double x, y;

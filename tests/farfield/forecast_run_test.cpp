@@ -274,10 +274,19 @@ TEST_F(Forecast, PlausibleButWrongInputIsRefusedBeforeAnyWork) {
   EXPECT_NE(m.find("GB"), std::string::npos) << m;
   m = refusal({"/banks/bin_length=1e-6"});
   EXPECT_TRUE(names(m, "/banks/bin_length")) << m;
-  // Values that ran to the end and failed there, naming the staging folder or PROJ.
-  m = refusal({"/banks/bin_length=1e9"});
-  EXPECT_TRUE(names(m, "/banks/bin_length")) << m;
-  EXPECT_NE(m.find("longer than the centreline"), std::string::npos) << m;
+  // Values that ran to the end and failed there, naming the staging folder or PROJ: bins
+  // longer than the centreline are drawn along it, Manning's n over 1 is refused.
+  run(config(), "long_bins", {"/banks/bin_length=1e9"});
+  const nlohmann::json shore =
+      common::load_json_file((dir_ / "long_bins" / "shoreline.geojson").string(), "shoreline");
+  ASSERT_FALSE(shore["features"].empty()) << "no oil stranded";
+  for (const auto& f : shore["features"]) {
+    EXPECT_LE(f["properties"]["km_to"].get<double>(), 0.99);  // the centreline's 990 m
+    for (const auto& p : f["geometry"]["coordinates"]) {
+      EXPECT_NEAR(p[0].get<double>(), 175.5, 1) << p;  // NZTM 1771000 E, 5472000 N
+      EXPECT_NEAR(p[1].get<double>(), -40.9, 1) << p;
+    }
+  }
   m = refusal({"/flow/manning=1e9"});
   EXPECT_TRUE(names(m, "/flow/manning")) << m;
 }

@@ -13,6 +13,7 @@
 #include <memory>
 
 #include "common/command_line.h"
+#include "common/exit_codes.h"
 #include "farfield/far_field_benchmark.h"
 #include "farfield/forecast_run.h"
 #include "sph/app/commands/command.h"
@@ -77,6 +78,11 @@ Command add_forecast_command(CLI::App& app, const CommandContext& context) {
             }
             const nlohmann::json summary = farfield::run_forecast(run);
             if (run.pictures) encode_animation(run.out_dir, "map", 0, 4, &std::cerr);
+            // A Ctrl-C while ffmpeg ran stopped it (its partial video removed): the folder is
+            // whole but for the video, and the exit says it was interrupted.
+            if (run.stop && run.stop->load())
+              throw common::Interrupted("interrupted while encoding " + run.out_dir +
+                                        "/map.mp4: the forecast is written, the video is not");
             const auto& last = summary["outputs"].back();
             std::cout << "wrote " << run.out_dir << ": " << summary["elements"] << " elements, "
                       << summary["released_m3"] << " m3 released, t = " << summary["end_time_s"]
