@@ -2,89 +2,46 @@
 
 #include <algorithm>
 #include <cmath>
-#include <filesystem>
 #include <limits>
 #include <nlohmann/json.hpp>
 
 #include "common/config_error.h"
-#include "common/json_file.h"
 #include "reach/raster.h"
+#include "reach/run_folder.h"
 
 namespace farfield {
 
-namespace fs = std::filesystem;
-
 ReachFlow::ReachFlow(const ReachFlowRequest& q) : dry_depth_(q.dry_depth) {
-  const auto refuse = [&](const std::string& key, const std::string& message) {
-    return common::ConfigError(q.config_file, q.pointer + key, message);
-  };
-  const fs::path dir(q.run_dir);
-  if (!fs::is_regular_file(dir / "reach.json") || !fs::is_regular_file(dir / "bed.tif"))
-    throw refuse("/reach_run", q.run_dir + " is not a reach run folder (no reach.json or bed.tif)");
-  const nlohmann::json summary = common::load_json_file((dir / "reach.json").string(), "reach run");
-  const nlohmann::json& frames = summary.at("frames");
-  if (frames.empty()) throw refuse("/reach_run", q.run_dir + "/reach.json lists no output");
-  steady_ = summary.contains("steady") && summary["steady"].value("reached", false);
-
-  const nlohmann::json terrain = summary.at("config").at("terrain");
+  const reach::ReachRunFolder run(q.run_dir, q.config_file, q.pointer + "/reach_run");
+  steady_ = run.steady();
+  const nlohmann::json terrain = run.summary().at("config").at("terrain");
   if (q.manning >= 0) {
     manning_ = q.manning;
   } else if (!terrain.value("manning_file", std::string()).empty()) {
-    throw refuse("/manning", "the reach run " + q.run_dir +
-                                 " took Manning's n from a raster: give one value for the drift");
+    throw common::ConfigError(q.config_file, q.pointer + "/manning",
+                              "the reach run " + q.run_dir +
+                                  " took Manning's n from a raster: give one value for the drift");
   } else {
     manning_ = terrain.value("manning", 0.035);
   }
-
-  // The output times from the start time on.
-  double start = frames.back().at("t_s").get<double>();
-  if (q.start_time >= 0) {
-    std::string times;
-    bool found = false;
-    // The output nearest the time asked, within half a second (frames may be closer than that).
-    for (const auto& f : frames) {
-      const double t = f.at("t_s").get<double>();
-      times += (times.empty() ? "" : ", ") + std::to_string(std::lround(t));
-      if (std::abs(t - q.start_time) <= 0.5 &&
-          (!found || std::abs(t - q.start_time) < std::abs(start - q.start_time))) {
-        start = t;
-        found = true;
-      }
-    }
-    if (!found)
-      throw refuse("/start_time", "the reach run has no output at " + std::to_string(q.start_time) +
-                                      " s (its outputs: " + times + " s)");
-  }
-  const reach::Raster bed = reach::read_raster((dir / "bed.tif").string());
-  grid_ = bed.grid;
-  crs_wkt_ = bed.crs_wkt;
-  bed_ = bed.values;
-  for (const auto& f : frames) {
-    const double t = f.at("t_s").get<double>();
-    if (t < start - 0.5) continue;
-    // Velocities are nodata where dry: a frame of a dry start has none at all.
-    const auto raster = [&](const char* what) {
-      const reach::Raster r = reach::read_raster(
-          (dir / f.at("files").at(what).get<std::string>()).string(), {{}, 1, true});
-      if (r.grid.nx != grid_.nx || r.grid.ny != grid_.ny)
-        throw refuse("/reach_run", q.run_dir + ": the " + what + " raster at " +
-                                       std::to_string(std::lround(t)) +
-                                       " s is not on bed.tif's grid");
-      return r.values;
-    };
+  // The outputs from the start time on.
+  const size_t first = q.start_time >= 0 ? run.output_at(q.start_time, q.pointer + "/start_time")
+                                         : run.outputs() - 1;
+  const double start = run.time(first);
+  grid_ = run.bed().grid;
+  crs_wkt_ = run.bed().crs_wkt;
+  bed_ = run.bed().values;
+  for (size_t k = first; k < run.outputs(); ++k) {
+    reach::ReachOutput output = run.read(k);
     Frame frame;
-    frame.t = t - start;
-    frame.depth = raster("depth");
-    const reach::Field vx = raster("velocity_x"), vy = raster("velocity_y");
-    frame.qx.resize(grid_.cells());
-    frame.qy.resize(grid_.cells());
-    for (size_t c = 0; c < grid_.cells(); ++c) {
-      const double h = frame.depth[c];
-      const bool closed = !std::isfinite(h) || !std::isfinite(bed_[c]);
-      if (closed) frame.depth[c] = std::numeric_limits<double>::quiet_NaN();
-      frame.qx[c] = closed ? frame.depth[c] : std::isfinite(vx[c]) ? h * vx[c] : 0.0;
-      frame.qy[c] = closed ? frame.depth[c] : std::isfinite(vy[c]) ? h * vy[c] : 0.0;
-    }
+    frame.t = output.t_s - start;
+    frame.depth = std::move(output.depth);
+    frame.qx = std::move(output.qx);
+    frame.qy = std::move(output.qy);
+    // A cell the bed closes is closed whatever its depth raster holds.
+    for (size_t c = 0; c < grid_.cells(); ++c)
+      if (!std::isfinite(bed_[c]))
+        frame.depth[c] = frame.qx[c] = frame.qy[c] = std::numeric_limits<double>::quiet_NaN();
     frames_.push_back(std::move(frame));
   }
   known_until_ = steady_ ? std::numeric_limits<double>::infinity() : frames_.back().t;

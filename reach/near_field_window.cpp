@@ -2,19 +2,15 @@
 
 #include <algorithm>
 #include <cmath>
-#include <filesystem>
 #include <limits>
-#include <nlohmann/json.hpp>
 #include <sstream>
 
 #include "common/config_error.h"
-#include "common/json_file.h"
 #include "reach/grid_sampling.h"
 #include "reach/raster.h"
+#include "reach/run_folder.h"
 
 namespace reach {
-
-namespace fs = std::filesystem;
 
 namespace {
 
@@ -65,49 +61,12 @@ NearFieldWindow sample_near_field(const NearFieldRequest& q) {
   const auto refuse = [&](const std::string& key, const std::string& message) {
     return common::ConfigError(q.config_file, q.pointer + key, message);
   };
-  const fs::path dir(q.run_dir);
-  if (!fs::is_regular_file(dir / "reach.json"))
-    throw refuse("/run", q.run_dir + " is not a reach run folder (no reach.json)");
-  if (!fs::is_regular_file(dir / "bed.tif"))
-    throw refuse("/run", q.run_dir +
-                             " has no bed.tif (written by spill-sim reach since the near field "
-                             "could take its terrain from it): run the reach again");
-  const nlohmann::json summary = common::load_json_file((dir / "reach.json").string(), "reach run");
-  const nlohmann::json& frames = summary.at("frames");
-  if (frames.empty()) throw refuse("/run", q.run_dir + "/reach.json lists no output");
-  const nlohmann::json* frame = &frames.back();
-  if (q.time >= 0) {
-    std::string times;
-    frame = nullptr;
-    for (const auto& f : frames) {
-      const double t = f.at("t_s").get<double>();
-      times += (times.empty() ? "" : ", ") + std::to_string(std::lround(t));
-      // The output nearest the time asked, within half a second (frames may be closer).
-      if (std::abs(t - q.time) <= 0.5 &&
-          (!frame || std::abs(t - q.time) < std::abs((*frame).at("t_s").get<double>() - q.time)))
-        frame = &f;
-    }
-    if (!frame)
-      throw refuse("/time", "the reach run has no output at " + std::to_string(q.time) +
-                                " s (its outputs: " + times + " s)");
-  }
-  // Velocities are nodata where dry (a frame of a dry start has none at all); the box's own
-  // check refuses a box with no water.
-  const auto raster = [&](const char* what) {
-    return read_raster((dir / (*frame).at("files").at(what).get<std::string>()).string(),
-                       {{}, 1, true});
-  };
-  const Raster bed = read_raster((dir / "bed.tif").string());
-  const Raster depth = raster("depth"), vx = raster("velocity_x"), vy = raster("velocity_y");
+  const ReachRunFolder run(q.run_dir, q.config_file, q.pointer + "/run");
+  const ReachOutput output =
+      run.read(q.time >= 0 ? run.output_at(q.time, q.pointer + "/time") : run.outputs() - 1);
+  const Raster& bed = run.bed();
   const Grid& g = bed.grid;
-  // Discharge per width, zero where dry and NaN where closed, so that it interpolates smoothly
-  // up to a shore.
-  Field qx(g.cells()), qy(g.cells());
-  for (size_t c = 0; c < g.cells(); ++c) {
-    const double h = depth.values[c];
-    qx[c] = !std::isfinite(h) ? kNan : std::isfinite(vx.values[c]) ? h * vx.values[c] : 0.0;
-    qy[c] = !std::isfinite(h) ? kNan : std::isfinite(vy.values[c]) ? h * vy.values[c] : 0.0;
-  }
+  const Field &depth = output.depth, &qx = output.qx, &qy = output.qy;
 
   NearFieldWindow w;
   w.cell_size = q.cell_size;
@@ -116,7 +75,7 @@ NearFieldWindow sample_near_field(const NearFieldRequest& q) {
   w.centre_x = q.centre_x;
   w.centre_y = q.centre_y;
   w.crs_wkt = bed.crs_wkt;
-  w.time_s = (*frame).at("t_s").get<double>();
+  w.time_s = output.t_s;
   w.heading_deg = q.heading_deg;
   if (w.heading_deg < 0) {
     // The mean flow over a square of the box's smaller side around its centre.
@@ -125,7 +84,7 @@ NearFieldWindow sample_near_field(const NearFieldRequest& q) {
     for (int b = 0; b <= 20; ++b)
       for (int a = 0; a <= 20; ++a) {
         const double x = q.centre_x - half + a * half / 10, y = q.centre_y - half + b * half / 10;
-        const double h = bilinear_valid(depth.values, g, x, y);
+        const double h = bilinear_valid(depth, g, x, y);
         if (!(h > q.min_depth)) continue;
         sx += bilinear_valid(qx, g, x, y);
         sy += bilinear_valid(qy, g, x, y);
@@ -168,7 +127,7 @@ NearFieldWindow sample_near_field(const NearFieldRequest& q) {
       if (!std::isfinite(w.bed[k]))
         throw refuse("/centre", "the box reaches closed or nodata cells of the reach at " +
                                     point_text(e, n) + " (" + q.run_dir + "/bed.tif)");
-      const double h = bilinear_valid(depth.values, g, e, n);
+      const double h = bilinear_valid(depth, g, e, n);
       w.depth[k] = std::isfinite(h) ? std::max(h, 0.0) : 0.0;
       if (w.depth[k] > q.min_depth) {
         wet = true;
