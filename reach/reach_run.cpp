@@ -10,14 +10,13 @@
 #include <limits>
 #include <sstream>
 
-#include "common/axis_ticks.h"
 #include "common/checked_file.h"
 #include "common/memory_limit.h"
 #include "common/output_folder.h"
 #include "common/progress.h"
 #include "reach/channel_carving.h"
 #include "reach/reach_checks.h"
-#include "reach/reach_map.h"
+#include "reach/reach_recorder.h"
 #include "reach/series.h"
 
 namespace reach {
@@ -81,9 +80,6 @@ std::vector<char> closed_cells(const Raster& r) {
   return closed;
 }
 
-// The depth below which a cell does not count in the steady-state residual (m).
-constexpr double kResidualDepth = 0.01;
-
 std::string number(double v) {
   std::ostringstream s;
   s << v;
@@ -97,30 +93,23 @@ std::string stamp_with(double t, int decimals) {
   return text;
 }
 
-}  // namespace
-
-std::string frame_stamp(double t, double previous, double interval) {
-  int decimals = 0;
-  while (decimals < 9 && interval * std::pow(10.0, decimals) < 1 - 1e-9) ++decimals;
-  while (decimals < 12 && stamp_with(t, decimals) == stamp_with(previous, decimals)) ++decimals;
-  return stamp_with(t, decimals);
+// Calls `read`, naming `pointer` for a raster that cannot be used.
+template <class Read>
+auto keyed(const std::string& file, const char* pointer, Read read) {
+  try {
+    return read();
+  } catch (const RasterError& e) {
+    throw ConfigError(file, pointer, e.what());
+  }
 }
 
-ReachModel build_reach(const ReachConfig& c, const std::string& file) {
-  ReachModel m;
-  // A raster that cannot be used is named with the key that gave it.
-  const auto keyed = [&](const char* pointer, auto read) {
-    try {
-      return read();
-    } catch (const RasterError& e) {
-      throw ConfigError(file, pointer, e.what());
-    }
-  };
-  const Raster header = keyed("/terrain/file", [&] { return raster_header(c.terrain.file); });
-  // Sized first, then only the window read, coarsened strip by strip: a 20,000 x 20,000 raster
-  // was read whole (7 GB) before the window and coarsening applied.
+// The terrain of the config: sized first, then only the window read, coarsened strip by strip
+// (a 20,000 x 20,000 raster was read whole, 7 GB, before the window and coarsening applied); its
+// CRS projected and in metres, its elevations Earth's.
+Raster read_terrain(const ReachConfig& c, const std::string& file) {
+  const Raster header = keyed(file, "/terrain/file", [&] { return raster_header(c.terrain.file); });
   check_terrain_size(header, c.terrain, common::physical_memory_bytes(), file);
-  Raster r = keyed("/terrain/file", [&] {
+  Raster r = keyed(file, "/terrain/file", [&] {
     return read_raster(c.terrain.file, {c.terrain.window, c.terrain.coarsen});
   });
   if (!c.terrain.crs.empty()) {
@@ -142,23 +131,29 @@ ReachModel build_reach(const ReachConfig& c, const std::string& file) {
                           "one: warp it first (gdalwarp -t_srs EPSG:...)");
   check_metres(r.crs_wkt, file, c.terrain.crs.empty() ? "/terrain/file" : "/terrain/crs",
                c.terrain.crs.empty() ? c.terrain.file : c.terrain.crs);
+  check_elevations(r, c.terrain.file, file);
+  return r;
+}
+
+// Manning's n per cell (a raster on the terrain's grid, its nodata the constant) or the constant.
+Field read_manning(const ReachConfig& c, const Grid& grid, const std::string& file) {
   Field manning;
   Raster n_raster;
   if (!c.terrain.manning_file.empty()) {
+    const Raster header =
+        keyed(file, "/terrain/file", [&] { return raster_header(c.terrain.file); });
     const Raster n_header =
-        keyed("/terrain/manning_file", [&] { return raster_header(c.terrain.manning_file); });
+        keyed(file, "/terrain/manning_file", [&] { return raster_header(c.terrain.manning_file); });
     if (n_header.grid.nx != header.grid.nx || n_header.grid.ny != header.grid.ny)
       throw ConfigError(file, "/terrain/manning_file",
                         c.terrain.manning_file + " is " + std::to_string(n_header.grid.nx) + " x " +
                             std::to_string(n_header.grid.ny) + " cells, the terrain " +
                             std::to_string(header.grid.nx) + " x " +
                             std::to_string(header.grid.ny));
-    n_raster = keyed("/terrain/manning_file", [&] {
+    n_raster = keyed(file, "/terrain/manning_file", [&] {
       return read_raster(c.terrain.manning_file, {c.terrain.window, c.terrain.coarsen});
     });
   }
-  check_elevations(r, c.terrain.file, file);
-  if (c.terrain.channel) m.carved_cells = carve_channel(r.grid, r.values, *c.terrain.channel);
   if (!n_raster.values.empty()) {
     manning = n_raster.values;
     for (size_t k = 0; k < manning.size(); ++k) {
@@ -166,21 +161,21 @@ ReachModel build_reach(const ReachConfig& c, const std::string& file) {
       if (!(manning[k] >= 0 && manning[k] <= kMaxManning))
         throw ConfigError(file, "/terrain/manning_file",
                           c.terrain.manning_file + " has a Manning's n of " + number(manning[k]) +
-                              " at (" + number(r.grid.x(int(k) % r.grid.nx)) + ", " +
-                              number(r.grid.y(int(k) / r.grid.nx)) + "), beyond 0 to " +
+                              " at (" + number(grid.x(int(k) % grid.nx)) + ", " +
+                              number(grid.y(int(k) / grid.nx)) + "), beyond 0 to " +
                               number(kMaxManning));
     }
   } else {
     manning = {c.terrain.manning};
   }
-  SolverSettings settings;
-  settings.cfl = c.cfl;
-  settings.dry_depth = c.dry_depth;
-  try {
-    m.solver = std::make_unique<ShallowWaterSolver>(r.grid, r.values, manning, settings);
-  } catch (const std::invalid_argument& e) {
-    throw ConfigError(file, "/terrain", e.what());
-  }
+  return manning;
+}
+
+// The inflows and outflows placed on the grid's edge (or over an area) and the initial water,
+// checked (sections apart, series covering the run, discharges a river can carry), with the
+// fastest wave they promise.
+void place_boundaries(const ReachConfig& c, const Raster& r, ReachModel& m,
+                      const std::string& file) {
   const auto closed = closed_cells(r);
   std::vector<std::pair<Section, std::string>> placed;  // every section and its key
   double lowest_bed = std::numeric_limits<double>::infinity();
@@ -243,10 +238,42 @@ ReachModel build_reach(const ReachConfig& c, const std::string& file) {
     m.solver->add_outflow(b);
   }
   check_sections_apart(placed, file);
+  m.section_cells.assign(r.grid.cells(), 0);
+  for (const auto& [s, key] : placed)
+    for (int k = s.first; k <= s.last; ++k) {
+      const int i = s.side == Side::kWest ? 0 : s.side == Side::kEast ? r.grid.nx - 1 : k;
+      const int j = s.side == Side::kSouth ? 0 : s.side == Side::kNorth ? r.grid.ny - 1 : k;
+      m.section_cells[r.grid.at(i, j)] = 1;
+    }
   if (c.initial_level) {
     m.solver->fill_to_level(*c.initial_level);
     consider_wave(std::sqrt(9.81 * std::max(0.0, *c.initial_level - lowest_bed)), "/initial_level");
   }
+}
+
+}  // namespace
+
+std::string frame_stamp(double t, double previous, double interval) {
+  int decimals = 0;
+  while (decimals < 9 && interval * std::pow(10.0, decimals) < 1 - 1e-9) ++decimals;
+  while (decimals < 12 && stamp_with(t, decimals) == stamp_with(previous, decimals)) ++decimals;
+  return stamp_with(t, decimals);
+}
+
+ReachModel build_reach(const ReachConfig& c, const std::string& file) {
+  ReachModel m;
+  Raster r = read_terrain(c, file);
+  if (c.terrain.channel) m.carved_cells = carve_channel(r.grid, r.values, *c.terrain.channel);
+  const Field manning = read_manning(c, r.grid, file);
+  SolverSettings settings;
+  settings.cfl = c.cfl;
+  settings.dry_depth = c.dry_depth;
+  try {
+    m.solver = std::make_unique<ShallowWaterSolver>(r.grid, r.values, manning, settings);
+  } catch (const std::invalid_argument& e) {
+    throw ConfigError(file, "/terrain", e.what());
+  }
+  place_boundaries(c, r, m, file);
   m.terrain = std::move(r);
   return m;
 }
@@ -256,7 +283,6 @@ nlohmann::json run_reach(const ReachRunOptions& o) {
   ReachModel model = build_reach(config, o.config_file);
   const double least_steps = check_run_length(config, model, o.config_file);
   ShallowWaterSolver& solver = *model.solver;
-  const Grid& g = solver.grid();
   std::ostream& log = *o.log;
 
   common::OutputFolderPolicy policy;
@@ -266,140 +292,7 @@ nlohmann::json run_reach(const ReachRunOptions& o) {
   policy.log = o.log;
   common::OutputFolder out(o.out_dir, policy);
   const fs::path dir = out.staging();
-  fs::create_directories(dir / "rasters");
-  fs::create_directories(dir / "png");
-
-  const size_t cells = g.cells();
-  const double nan = std::nan("");
-  const double dry = config.dry_depth;
-  long open_cells = 0;
-  for (size_t c = 0; c < cells; ++c) open_cells += !solver.closed(c);
-  Field max_depth(cells, nan), max_level(cells, nan);
-  const auto track_maxima = [&] {
-    const WaterState& w = solver.state();
-    for (size_t c = 0; c < cells; ++c) {
-      if (solver.closed(c)) continue;
-      max_depth[c] = std::isnan(max_depth[c]) ? w.h[c] : std::max(max_depth[c], w.h[c]);
-      if (w.h[c] > dry)
-        max_level[c] = std::isnan(max_level[c]) ? w.h[c] + solver.bed()[c]
-                                                : std::max(max_level[c], w.h[c] + solver.bed()[c]);
-    }
-  };
-  const auto raster_of = [&](const Field& values) {
-    Raster r;
-    r.grid = g;
-    r.crs_wkt = model.terrain.crs_wkt;
-    r.values = values;
-    return r;
-  };
-
-  // The pictures' depth and arrow scales: a 1-2-5 value at or above the figure, 1 when it is 0.
-  const auto scale_step = [](double v) { return v > 0 ? common::round_up_to_125(v) : 1.0; };
-  const std::vector<char> closed = closed_cells(model.terrain);
-
-  // Sections' cells, so that water against a wall of the grid's edge can be told apart.
-  std::vector<char> in_section(cells, 0);
-  const auto mark = [&](const SectionConfig& sc) {
-    const Section s = section_of(sc, g, closed, o.config_file, "");
-    for (int k = s.first; k <= s.last; ++k) {
-      switch (s.side) {
-        case Side::kWest:
-          in_section[g.at(0, k)] = 1;
-          break;
-        case Side::kEast:
-          in_section[g.at(g.nx - 1, k)] = 1;
-          break;
-        case Side::kSouth:
-          in_section[g.at(k, 0)] = 1;
-          break;
-        case Side::kNorth:
-          in_section[g.at(k, g.ny - 1)] = 1;
-          break;
-      }
-    }
-  };
-  for (const auto& b : config.inflows)
-    if (b.section) mark(*b.section);
-  for (const auto& b : config.outflows) mark(b.section);
-
-  nlohmann::json frames = nlohmann::json::array();
-  std::vector<std::string> warnings;
-  double depth_scale = 0, speed_scale = 0, residual = nan;
-  const double volume0 = solver.volume();
-  long steps = 0;
-  double last_frame_time = -1;  // no frame yet
-
-  const auto write_frame = [&] {
-    const WaterState& w = solver.state();
-    Field depth(cells, nan), level(cells, nan), vx(cells, nan), vy(cells, nan);
-    double wetted = 0, fastest = 0, deepest = 0;
-    std::vector<double> speeds;  // of cells deeper than 10 cm, for the arrows' scale
-    long against_edge = 0;
-    for (int j = 0; j < g.ny; ++j)
-      for (int i = 0; i < g.nx; ++i) {
-        const size_t c = g.at(i, j);
-        if (solver.closed(c)) continue;
-        depth[c] = w.h[c];
-        if (w.h[c] <= dry) continue;
-        level[c] = w.h[c] + solver.bed()[c];
-        vx[c] = w.hu[c] / w.h[c];
-        vy[c] = w.hv[c] / w.h[c];
-        wetted += g.cell_area();
-        fastest = std::max(fastest, std::hypot(vx[c], vy[c]));
-        if (w.h[c] > 0.1) speeds.push_back(std::hypot(vx[c], vy[c]));
-        deepest = std::max(deepest, w.h[c]);
-        const bool edge = i == 0 || j == 0 || i == g.nx - 1 || j == g.ny - 1;
-        if (edge && !in_section[c] && w.h[c] > 0.05) ++against_edge;
-      }
-    const std::string t = frame_stamp(solver.time(), last_frame_time, config.output_every);
-    last_frame_time = solver.time();
-    nlohmann::json files = nlohmann::json::object();
-    for (const auto& [what, values] : {std::pair<const char*, const Field*>{"depth", &depth},
-                                       {"level", &level},
-                                       {"velocity_x", &vx},
-                                       {"velocity_y", &vy}}) {
-      const std::string name = "rasters/" + std::string(what) + "_" + t + ".tif";
-      write_geotiff((dir / name).string(), raster_of(*values));
-      files[what] = name;
-    }
-    depth_scale = std::max(depth_scale, scale_step(deepest));
-    // The arrows' scale: the 95th percentile of the speed where the water is deeper than 10 cm
-    // (a thin wetting front runs fast and would shrink every other arrow).
-    if (!speeds.empty()) {
-      const size_t k = speeds.size() * 95 / 100;
-      std::nth_element(speeds.begin(), speeds.begin() + long(k), speeds.end());
-      speed_scale = std::max(speed_scale, scale_step(speeds[k]));
-    }
-    files["map"] = "png/map_" + t + ".png";
-    common::write_png(
-        (dir / files["map"].get<std::string>()).string(),
-        draw_reach_map(g, solver.bed(), w, solver.time(), depth_scale, speed_scale, dry));
-    nlohmann::json sections = nlohmann::json::object();
-    const auto names = solver.section_names();
-    for (size_t k = 0; k < names.size(); ++k) sections[names[k]] = solver.section_discharge()[k];
-    const double balance =
-        solver.volume() - (volume0 + solver.boundary_volume_in() + solver.clamped_volume());
-    frames.push_back({{"t_s", solver.time()},
-                      {"volume_m3", solver.volume()},
-                      {"wetted_area_m2", wetted},
-                      {"max_depth_m", deepest},
-                      {"max_speed_m_s", fastest},
-                      {"section_discharge_m3_s", sections},
-                      {"volume_balance_error_m3", balance},
-                      {"residual_m_s",
-                       std::isnan(residual) ? nlohmann::json(nullptr) : nlohmann::json(residual)},
-                      {"wet_cells_against_the_grid_edge", against_edge},
-                      {"files", files}});
-    if (against_edge > 0 && warnings.empty()) {
-      warnings.push_back(std::to_string(against_edge) +
-                         " wet cells (deeper than 5 cm) against the grid's edge outside the "
-                         "sections at t = " +
-                         std::to_string(solver.time()) +
-                         " s: walls hold the water there, so the flow may overtop the banks "
-                         "beyond the terrain; widen the window or lower the discharge");
-      log << "warning: " << warnings.back() << "\n";
-    }
-  };
+  ReachRecorder recorder(model, config, dir, log);
 
   omp_set_num_threads(o.threads);
   const auto start = std::chrono::steady_clock::now();
@@ -408,25 +301,13 @@ nlohmann::json run_reach(const ReachRunOptions& o) {
   common::ProgressReporter progress(log, o.terminal, kProgressUnits, "reach " + config.name);
   log << "reach " << config.name << ": at least " << number(least_steps) << " steps to "
       << number(config.end_time) << " s\n";
-  track_maxima();
-  write_frame();
-  bool steady = false;
-  Field window_depth = solver.state().h;  // the depths at the start of the residual's window
-  double window_start = solver.time();
-  // Steady also needs what leaves to match what enters, to 1 % of the inflow (a filling
-  // floodplain can hold the depth's rate low for a while).
-  const auto balanced = [&] {
-    double in = 0, net = 0;
-    for (double q : solver.section_discharge()) {
-      in += std::max(q, 0.0);
-      net += q;
-    }
-    return in == 0 || std::abs(net) <= 0.01 * in;
-  };
+  recorder.after_step();
+  recorder.write_frame();
+  long steps = 0;
   double next_output = config.output_every;
-  while (solver.time() < config.end_time && !steady) {
+  while (solver.time() < config.end_time && !recorder.steady()) {
     const double target = std::min(next_output, config.end_time);
-    while (solver.time() < target) {
+    while (solver.time() < target && !recorder.steady()) {
       double dt = std::min({solver.stable_dt(), config.max_dt, target - solver.time()});
       if (!(dt > 0) || !std::isfinite(dt))
         throw std::runtime_error("the reach's time step fell to " + std::to_string(dt) +
@@ -440,101 +321,22 @@ nlohmann::json run_reach(const ReachRunOptions& o) {
                               number(config.end_time) + " s (its step had fallen to " + number(dt) +
                               " s): check the inflows and the terrain, or raise /max_steps");
       if (target - solver.time() < 1e-9 * target) solver.set_time(target);
-      track_maxima();
+      recorder.after_step();
       if (o.stop && o.stop->load()) throw common::Interrupted("interrupted; nothing written");
       if (steps % 50 == 0 || dt < 1e-3 * config.output_every) {
         char detail[128];
         std::snprintf(detail, sizeof detail, "t=%.6gs of %.6gs dt=%.3gs residual=%.2e m/s",
-                      solver.time(), config.end_time, dt, residual);
+                      solver.time(), config.end_time, dt, recorder.residual());
         progress.update(long(kProgressUnits * solver.time() / config.end_time), detail);
       }
-      // The steady-state residual: how fast the depths drift, from the state one window ago
-      // (oscillations within the window, a film wetting and drying at the edge, do not count).
-      if (solver.time() - window_start >= config.steady_window) {
-        double sum = 0;
-        long deep = 0;
-        const double span = solver.time() - window_start;
-        for (size_t c = 0; c < cells; ++c)
-          if (solver.state().h[c] > kResidualDepth) {
-            const double rate = (solver.state().h[c] - window_depth[c]) / span;
-            sum += rate * rate;
-            ++deep;
-          }
-        residual = deep > 0 ? std::sqrt(sum / double(deep)) : 0.0;
-        window_depth = solver.state().h;
-        window_start = solver.time();
-        if (config.steady_tolerance > 0 && residual < config.steady_tolerance && balanced()) {
-          steady = true;
-          break;
-        }
-      }
     }
-    write_frame();
+    recorder.write_frame();
     next_output += config.output_every;
   }
   const double wall =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   progress.finish("done");
-
-  // The bed the flow ran on (coarsened, carved; NaN where closed), which a near field inside the
-  // reach takes as its terrain (reach/near_field_window.h).
-  Field bed = solver.bed();
-  for (size_t c = 0; c < cells; ++c)
-    if (solver.closed(c)) bed[c] = nan;
-  write_geotiff((dir / "bed.tif").string(), raster_of(bed));
-  write_geotiff((dir / "max_depth.tif").string(), raster_of(max_depth));
-  write_geotiff((dir / "max_level.tif").string(), raster_of(max_level));
-  common::write_png((dir / "map.png").string(),
-                    draw_reach_map(g, solver.bed(), solver.state(), solver.time(), depth_scale,
-                                   speed_scale, dry));
-  const double balance =
-      solver.volume() - (volume0 + solver.boundary_volume_in() + solver.clamped_volume());
-  nlohmann::json summary = {
-      {"name", config.name},
-      {"description", config.description},
-      {"config", common::JsonWriter::write_struct(config)},
-      {"grid",
-       {{"nx", g.nx},
-        {"ny", g.ny},
-        {"dx_m", g.dx},
-        {"dy_m", g.dy},
-        {"x0", g.x0},
-        {"y0", g.y0},
-        {"open_cells", open_cells},
-        {"carved_cells", model.carved_cells},
-        {"crs_wkt", model.terrain.crs_wkt}}},
-      {"end_time_s", solver.time()},
-      {"steady",
-       {{"tolerance_m_s", config.steady_tolerance},
-        {"reached", steady},
-        {"residual_m_s", residual}}},
-      {"volume_balance",
-       {{"initial_m3", volume0},
-        {"final_m3", solver.volume()},
-        {"net_inflow_m3", solver.boundary_volume_in()},
-        {"clamped_m3", solver.clamped_volume()},
-        {"error_m3", balance}}},
-      {"frames", frames},
-      {"warnings", warnings},
-      {"steps", steps},
-      {"threads", o.threads},
-      {"wall_s", wall},
-      {"cell_updates_per_s", wall > 0 ? double(steps) * double(open_cells) / wall : 0.0},
-      {"definitions",
-       {{"section_discharge_m3_s",
-         "discharge through each section over the last step, positive "
-         "into the reach"},
-        {"residual_m_s",
-         "RMS over the cells deeper than 1 cm of the depth's rate of change over "
-         "the last step"},
-        {"volume_balance_error_m3",
-         "volume now - (initial volume + net inflow through the sections + round-off clamps)"},
-        {"cell_updates_per_s", "steps x open cells / wall time (each step has two stages)"},
-        {"rasters",
-         "rasters/depth, level (water surface, NaN where dry), velocity_x, velocity_y "
-         "(m/s, east and north) at each output time; max_depth.tif and max_level.tif "
-         "over the whole run; bed.tif, the bed the flow ran on (coarsened, carved); all "
-         "GeoTIFF in the terrain's CRS"}}}};
+  const nlohmann::json summary = recorder.finish(steps, o.threads, wall);
   common::write_file_atomically(dir / "reach.json", summary.dump(2) + "\n");
   // A Ctrl-C while the last files were written keeps its promise too.
   if (o.stop && o.stop->load()) throw common::Interrupted("interrupted; nothing written");

@@ -29,6 +29,9 @@ struct ReachModel {
   // `wave_speed_key` names the input it comes from.
   double wave_speed = 0;
   std::string wave_speed_key;
+  // 1 for the cells of the grid's edge that the sections take (water against the rest of the
+  // edge stands against a wall).
+  std::vector<char> section_cells;
 };
 
 // Throws ConfigError (naming `config_file` and the key, and the raster when it is at fault) for
