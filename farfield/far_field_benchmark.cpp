@@ -3,8 +3,8 @@
 #include <chrono>
 #include <memory>
 
-#include "farfield/channel_flow.h"
-#include "farfield/far_field_model.h"
+#include "farfield/flows/channel_flow.h"
+#include "farfield/model/far_field_model.h"
 
 namespace farfield {
 

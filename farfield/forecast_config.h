@@ -12,7 +12,7 @@
 #include "common/config_error.h"
 #include "common/config_visitors.h"
 #include "common/param_spec.h"
-#include "farfield/drift.h"
+#include "farfield/model/drift.h"
 #include "reach/reach_config.h"
 
 namespace farfield {

@@ -17,11 +17,11 @@
 #include "common/progress.h"
 #include "common/svg_plot.h"
 #include "farfield/forecast_checks.h"
-#include "farfield/forecast_map.h"
-#include "farfield/geojson_output.h"
-#include "farfield/lon_lat.h"
-#include "farfield/netcdf_output.h"
-#include "farfield/reach_flow.h"
+#include "farfield/outputs/forecast_map.h"
+#include "farfield/outputs/geojson_output.h"
+#include "farfield/outputs/lon_lat.h"
+#include "farfield/outputs/netcdf_output.h"
+#include "farfield/flows/reach_flow.h"
 #include "reach/series.h"
 
 namespace farfield {

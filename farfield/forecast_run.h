@@ -15,9 +15,9 @@
 #include <string>
 #include <vector>
 
-#include "farfield/far_field_model.h"
+#include "farfield/model/far_field_model.h"
 #include "farfield/forecast_config.h"
-#include "farfield/forecast_metrics.h"
+#include "farfield/outputs/forecast_metrics.h"
 
 namespace farfield {
 

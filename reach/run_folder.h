@@ -1,7 +1,7 @@
 #pragma once
 // A finished reach run's folder (`spill-sim reach --out DIR`, reach/reach_run.h) as its readers
 // see it: reach.json's output times and steady state, bed.tif, and each output's depth and
-// discharge per width. The far field's flow (farfield/reach_flow.h) and a near field's window
+// discharge per width. The far field's flow (farfield/flows/reach_flow.h) and a near field's window
 // (reach/near_field_window.h) read the folder through here, so its keys and its files are read
 // one way.
 

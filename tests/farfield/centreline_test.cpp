@@ -10,7 +10,7 @@
 #include <random>
 #include <vector>
 
-#include "farfield/centreline.h"
+#include "farfield/model/centreline.h"
 
 namespace {
 

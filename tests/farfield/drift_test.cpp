@@ -4,7 +4,7 @@
 
 #include <cmath>
 
-#include "farfield/drift.h"
+#include "farfield/model/drift.h"
 
 namespace {
 

@@ -20,7 +20,7 @@
 #include "common/exit_codes.h"
 #include "common/json_file.h"
 #include "farfield/forecast_run.h"
-#include "farfield/reach_flow.h"
+#include "farfield/flows/reach_flow.h"
 #include "reach/raster.h"
 #include "reach/reach_run.h"
 

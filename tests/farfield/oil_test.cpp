@@ -10,7 +10,7 @@
 #include <fstream>
 
 #include "common/config_error.h"
-#include "farfield/oil.h"
+#include "farfield/model/oil.h"
 
 namespace farfield {
 namespace {

@@ -1,4 +1,4 @@
-#include "farfield/centreline.h"
+#include "farfield/model/centreline.h"
 
 #include <algorithm>
 #include <cmath>

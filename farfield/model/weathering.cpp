@@ -1,4 +1,4 @@
-#include "farfield/weathering.h"
+#include "farfield/model/weathering.h"
 
 #include <algorithm>
 #include <cmath>

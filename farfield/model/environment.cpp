@@ -1,4 +1,4 @@
-#include "farfield/environment.h"
+#include "farfield/model/environment.h"
 
 #include <cmath>
 

@@ -19,7 +19,7 @@
 #include <functional>
 
 #include "common/param_spec.h"
-#include "farfield/surface_flow.h"
+#include "farfield/flows/surface_flow.h"
 
 namespace farfield {
 

@@ -1,4 +1,4 @@
-#include "farfield/reach_flow.h"
+#include "farfield/flows/reach_flow.h"
 
 #include <algorithm>
 #include <cmath>

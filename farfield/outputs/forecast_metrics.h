@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "farfield/far_field_model.h"
+#include "farfield/model/far_field_model.h"
 #include "reach/grid.h"
 
 namespace farfield {

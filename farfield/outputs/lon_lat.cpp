@@ -1,4 +1,4 @@
-#include "farfield/lon_lat.h"
+#include "farfield/outputs/lon_lat.h"
 
 #include <ogr_spatialref.h>
 

@@ -1,4 +1,4 @@
-#include "farfield/spreading.h"
+#include "farfield/model/spreading.h"
 
 #include <cmath>
 #include <stdexcept>

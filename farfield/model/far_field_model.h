@@ -12,15 +12,15 @@
 #include <string>
 #include <vector>
 
-#include "farfield/banks.h"
-#include "farfield/centreline.h"
-#include "farfield/drift.h"
-#include "farfield/elements.h"
-#include "farfield/environment.h"
-#include "farfield/oil.h"
-#include "farfield/spreading.h"
-#include "farfield/surface_flow.h"
-#include "farfield/weathering.h"
+#include "farfield/model/banks.h"
+#include "farfield/model/centreline.h"
+#include "farfield/model/drift.h"
+#include "farfield/model/elements.h"
+#include "farfield/model/environment.h"
+#include "farfield/model/oil.h"
+#include "farfield/model/spreading.h"
+#include "farfield/flows/surface_flow.h"
+#include "farfield/model/weathering.h"
 #include "reach/hydrograph.h"
 
 namespace farfield {

@@ -1,11 +1,11 @@
-#include "farfield/drift.h"
+#include "farfield/model/drift.h"
 
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
 
-#include "farfield/random_stream.h"
+#include "farfield/model/random_stream.h"
 
 namespace farfield {
 

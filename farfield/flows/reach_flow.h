@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "farfield/surface_flow.h"
+#include "farfield/flows/surface_flow.h"
 #include "reach/grid.h"
 #include "reach/shallow_water.h"
 

@@ -5,8 +5,8 @@
 
 #include <optional>
 
-#include "farfield/drift.h"
-#include "farfield/weathering.h"
+#include "farfield/model/drift.h"
+#include "farfield/model/weathering.h"
 #include "reach/hydrograph.h"
 
 namespace farfield {

@@ -1,4 +1,4 @@
-#include "farfield/geojson_output.h"
+#include "farfield/outputs/geojson_output.h"
 
 #include <gdal_alg.h>
 #include <gdal_priv.h>

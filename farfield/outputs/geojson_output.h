@@ -11,8 +11,8 @@
 #include <string>
 #include <vector>
 
-#include "farfield/banks.h"
-#include "farfield/centreline.h"
+#include "farfield/model/banks.h"
+#include "farfield/model/centreline.h"
 #include "reach/grid.h"
 
 namespace farfield {

@@ -24,8 +24,8 @@
 
 #include <vector>
 
-#include "farfield/elements.h"
-#include "farfield/oil.h"
+#include "farfield/model/elements.h"
+#include "farfield/model/oil.h"
 
 namespace farfield {
 

@@ -1,4 +1,4 @@
-#include "farfield/forecast_map.h"
+#include "farfield/outputs/forecast_map.h"
 
 #include <cmath>
 #include <cstdio>

@@ -3,7 +3,7 @@
 // are at y = 0 (right, looking downstream) and y = width (left), the flow is uniform. What the
 // validation tests run on, where the mean drift, the mixing and the stranding have exact answers.
 
-#include "farfield/surface_flow.h"
+#include "farfield/flows/surface_flow.h"
 
 namespace farfield {
 

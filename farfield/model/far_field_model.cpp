@@ -1,9 +1,9 @@
-#include "farfield/far_field_model.h"
+#include "farfield/model/far_field_model.h"
 
 #include <algorithm>
 #include <cmath>
 
-#include "farfield/random_stream.h"
+#include "farfield/model/random_stream.h"
 
 namespace farfield {
 

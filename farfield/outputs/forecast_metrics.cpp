@@ -1,4 +1,4 @@
-#include "farfield/forecast_metrics.h"
+#include "farfield/outputs/forecast_metrics.h"
 
 #include <algorithm>
 #include <cmath>

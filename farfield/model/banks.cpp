@@ -1,4 +1,4 @@
-#include "farfield/banks.h"
+#include "farfield/model/banks.h"
 
 #include <algorithm>
 #include <cmath>

@@ -1,4 +1,4 @@
-#include "farfield/netcdf_output.h"
+#include "farfield/outputs/netcdf_output.h"
 
 #include <netcdf.h>
 

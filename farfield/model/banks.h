@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-#include "farfield/centreline.h"
+#include "farfield/model/centreline.h"
 
 namespace farfield {
 

@@ -1,4 +1,4 @@
-#include "farfield/oil.h"
+#include "farfield/model/oil.h"
 
 #include <algorithm>
 #include <cmath>
