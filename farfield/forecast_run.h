@@ -15,9 +15,7 @@
 #include <string>
 #include <vector>
 
-#include "farfield/model/far_field_model.h"
-#include "farfield/forecast_config.h"
-#include "farfield/outputs/forecast_metrics.h"
+#include "farfield/forecast_setup.h"
 
 namespace farfield {
 
@@ -40,16 +38,6 @@ struct ForecastRunOptions {
   bool terminal = false;
   int threads = 1;
 };
-
-// The model of a config, checked against its flow: throws ConfigError naming the file and key
-// for an unknown oil, a negative rate, a release or watch point outside the reach, a series
-// (wind, temperature, waves, rate) that does not cover the forecast, an unknown bank class.
-struct ForecastSetup {
-  ForecastConfig config;
-  FarFieldSetup model;
-  std::vector<WatchPoint> watch_points;
-};
-ForecastSetup build_forecast(const ForecastConfig& config, const std::string& config_file);
 
 // Runs and writes the folder; returns forecast.json's content.
 nlohmann::json run_forecast(const ForecastRunOptions& options);
