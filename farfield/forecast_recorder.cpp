@@ -4,9 +4,9 @@
 #include <cstdio>
 #include <fstream>
 
+#include "common/config_visitors.h"
 #include "common/exit_codes.h"
 #include "common/image_writer.h"
-#include "common/config_visitors.h"
 #include "common/svg_plot.h"
 #include "farfield/outputs/forecast_map.h"
 
@@ -192,8 +192,8 @@ nlohmann::json ForecastRecorder::finish(const FarFieldModel& model,
   write_budget(dir_, outputs_);
   check_stop();
   write_slick_geojson((dir_ / "slick.geojson").string(), slicks_, flow_.grid(), flow_.crs_wkt());
-  write_shoreline_geojson((dir_ / "shoreline.geojson").string(), shores_,
-                          model.setup().centreline, model.setup().banks, flow_.crs_wkt());
+  write_shoreline_geojson((dir_ / "shoreline.geojson").string(), shores_, model.setup().centreline,
+                          model.setup().banks, flow_.crs_wkt());
   check_stop();
   const ForecastConfig& config = setup_.config;
   NetcdfAttributes attributes;
@@ -233,12 +233,11 @@ nlohmann::json ForecastRecorder::summary(const FarFieldModel& model,
   const ForecastConfig& config = setup_.config;
   const double oil_density = setup_.model.oil.density;
   const nlohmann::json handover =
-      facts.handover_parcels == 0
-          ? nlohmann::json()
-          : nlohmann::json{{"near_field", facts.handover_summary},
-                           {"parcels", facts.handover_parcels},
-                           {"volume_m3", facts.handed_over_m3},
-                           {"mass_kg", facts.handed_over_m3 * oil_density}};
+      facts.handover_parcels == 0 ? nlohmann::json()
+                                  : nlohmann::json{{"near_field", facts.handover_summary},
+                                                   {"parcels", facts.handover_parcels},
+                                                   {"volume_m3", facts.handed_over_m3},
+                                                   {"mass_kg", facts.handed_over_m3 * oil_density}};
   return {{"name", config.name},
           {"description", config.description},
           {"config", common::JsonWriter::write_struct(config)},

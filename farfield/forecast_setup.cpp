@@ -79,11 +79,10 @@ void check_on_reach(const ReachFlow& flow, const std::vector<double>& p, bool on
   const reach::Grid& g = flow.grid();
   const FlowSample here = flow.sample(p[0], p[1], 0);
   if (here.where == FlowWhere::outside)
-    throw ConfigError(file, pointer,
-                      point_text(p[0], p[1]) + " lies outside the reach (" +
-                          point_text(g.x0, g.y0) + " to " +
-                          point_text(g.x0 + g.nx * g.dx, g.y0 + g.ny * g.dy) + ", " + run_dir +
-                          ")");
+    throw ConfigError(
+        file, pointer,
+        point_text(p[0], p[1]) + " lies outside the reach (" + point_text(g.x0, g.y0) + " to " +
+            point_text(g.x0 + g.nx * g.dx, g.y0 + g.ny * g.dy) + ", " + run_dir + ")");
   if (on_water && here.where != FlowWhere::water)
     throw ConfigError(file, pointer,
                       point_text(p[0], p[1]) + " is not on the reach's water (depth " +
@@ -166,8 +165,7 @@ std::vector<ReleaseSpec> build_releases(const ForecastConfig& c, const ReachFlow
 }
 
 std::vector<WatchPoint> build_watch_points(const ForecastConfig& c, const ReachFlow& flow,
-                                           const Centreline& centreline,
-                                           const std::string& file) {
+                                           const Centreline& centreline, const std::string& file) {
   std::vector<WatchPoint> out;
   for (size_t k = 0; k < c.watch_points.size(); ++k) {
     const auto& w = c.watch_points[k];

@@ -2,8 +2,8 @@
 // A near field's window on a finished reach run: a box at a leak site, turned so that its +x runs
 // with the river, sampled from the run folder's rasters (bed.tif and one output time's depth and
 // velocity) onto a fine local grid. This is how an SPH near field sits inside a real river: the
-// scene's terrain, water and inflow come from here (sph/river/reach_terrain.h). Nothing of SPH is
-// in this file; the window is plain arrays in the box's own frame.
+// scene's terrain, water and inflow come from here (sph/near_field/reach_terrain.h). Nothing of
+// SPH is in this file; the window is plain arrays in the box's own frame.
 //
 // The box's frame: x from 0 (upstream end) to `length` along the bearing, y from -width/2 (right
 // bank, looking downstream) to +width/2 (left bank), z the map's elevation. The rasters are

@@ -45,4 +45,4 @@ def argument_parser(description, root):
 
 def programs(build):
     """The paths of spill-sim and spill-infer in a build folder."""
-    return os.path.join(build, "sph", "spill-sim"), os.path.join(build, "infer", "spill-infer")
+    return os.path.join(build, "sim", "spill-sim"), os.path.join(build, "infer", "spill-infer")

@@ -3,7 +3,7 @@
 (one thread each, c10d Gloo over loopback), for GNS and the PAGATNet student on river_small
 frames, the gradient allreduce's time a step, and a projection to N machines. Prints JSON.
 
-  python3 scripts/distributed_bench.py --sim build/sph/spill-sim --train build/train/spill-train \
+  python3 scripts/distributed_bench.py --sim build/sim/spill-sim --train build/train/spill-train \
       --data data/river_small_bench --steps 100 --repeats 3 --out docs/results/distributed_bench.json
 
 The global batch is the config's /batch_size (here 2 windows): one process takes both, each of

@@ -8,5 +8,5 @@ cd "$(dirname "$0")/.."
 bash scripts/setup.sh
 scene=configs/scenes/river_case1.json
 out=runs/river_case1
-./build/sph/spill-sim run --scene "$scene" --out "$out" --force --png "$@"
+./build/sim/spill-sim run --scene "$scene" --out "$out" --force --png "$@"
 echo "report: $out/report.html   spill metrics: $out/spill.json (plot: $out/spill.svg)   pictures: $out/png/ (video: $out/river.mp4)   trajectory: $out/trajectory.h5"

@@ -47,4 +47,4 @@ fi
 jobs=$(nproc 2>/dev/null || echo 2)
 cmake -S . -B build -DCMAKE_BUILD_TYPE=Release ${SPILL_CMAKE_ARGS:-} > build.log 2>&1 || { cat build.log; exit 1; }
 cmake --build build -j "$jobs" >> build.log 2>&1 || { tail -n 60 build.log; exit 1; }
-echo "setup: built build/sph/spill-sim (log: build.log)"
+echo "setup: built build/sim/spill-sim (log: build.log)"

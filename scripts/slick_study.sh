@@ -7,7 +7,7 @@
 #   1.33 cm run, 20 of them)
 set -euo pipefail
 cd "$(dirname "$0")/.."
-sim=./build/sph/spill-sim
+sim=./build/sim/spill-sim
 out=docs/results/slick
 runs=$(mktemp -d)
 trap 'rm -rf "$runs"' EXIT

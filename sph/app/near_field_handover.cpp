@@ -6,7 +6,6 @@
 
 #include "common/config_error.h"
 #include "common/progress.h"
-#include "reach/near_field_window.h"
 #include "sph/scene/scene_loader.h"
 #include "sph/simulation/frame_loop.h"
 #include "sph/simulation/simulation.h"
@@ -15,73 +14,11 @@ namespace sph {
 
 namespace {
 
-// Traces of oil below this fraction are lumped; parcels of oil above it go one by one.
-constexpr Real kOilParticle = Real(0.5);
-
-// Collects the oil of the particles given to it in one frame: one parcel per oil particle, the
-// traces summed into one parcel at their oil-weighted mean position and velocity.
-struct FrameParcels {
-  const reach::NearFieldWindow* box = nullptr;
-  double t = 0;
-  bool left = true;
-  std::vector<NearFieldParcel>* out = nullptr;
-  double traces = 0, tx = 0, ty = 0, tu = 0, tv = 0, tarea = 0;
-  double total = 0;
-
-  void add(const Vec3& position, const Vec3& velocity, Real oil_fraction, Real rest_volume) {
-    const double volume = double(oil_fraction) * double(rest_volume);
-    if (!(volume > 0)) return;
-    total += volume;
-    if (oil_fraction >= kOilParticle) {
-      NearFieldParcel p;
-      p.t = t;
-      p.left = left;
-      p.volume = volume;
-      p.area = std::cbrt(double(rest_volume) * double(rest_volume));
-      to_map(position, velocity, p);
-      out->push_back(p);
-      return;
-    }
-    NearFieldParcel p;
-    to_map(position, velocity, p);
-    traces += volume;
-    tx += volume * p.x;
-    ty += volume * p.y;
-    tu += volume * p.u;
-    tv += volume * p.v;
-    tarea = std::max(tarea, std::cbrt(double(rest_volume) * double(rest_volume)));
-  }
-  void to_map(const Vec3& position, const Vec3& velocity, NearFieldParcel& p) const {
-    box->to_map(double(position.x()), double(position.y()), p.x, p.y);
-    const double a = box->heading_deg * 3.14159265358979323846 / 180;
-    const double ex = std::sin(a), ey = std::cos(a);
-    p.u = double(velocity.x()) * ex - double(velocity.y()) * ey;
-    p.v = double(velocity.x()) * ey + double(velocity.y()) * ex;
-  }
-  void finish() {
-    if (!(traces > 0)) return;
-    NearFieldParcel p;
-    p.t = t;
-    p.left = left;
-    p.volume = traces;
-    p.x = tx / traces;
-    p.y = ty / traces;
-    p.u = tu / traces;
-    p.v = tv / traces;
-    p.area = tarea;
-    out->push_back(p);
-  }
-};
-
-}  // namespace
-
-NearFieldHandover run_near_field_handover(const std::string& scene_file,
-                                          const std::vector<std::string>& overrides,
-                                          const FarFieldReachRun& far_field,
-                                          const std::atomic<bool>* stop, std::ostream* log,
-                                          bool terminal) {
-  const LoadedScene scene = load_scene(scene_file, overrides);
-  const SceneConfig& c = scene.config;
+// The box the scene sits in, as the reach window that turns its points into map coordinates;
+// refuses a scene that cannot hand oil over, or that sits in another reach run than the far
+// field's.
+reach::NearFieldWindow handover_box(const SceneConfig& c, const std::string& scene_file,
+                                    const FarFieldReachRun& far_field) {
   if (!c.terrain || !c.terrain->reach)
     throw common::ConfigError(scene_file, "/terrain/source",
                               "a hand-over to the far field needs a near field inside a reach "
@@ -102,28 +39,66 @@ NearFieldHandover run_near_field_handover(const std::string& scene_file,
   box.centre_y = w.centre[1];
   box.length = double(w.length);
   box.width = double(w.width);
+  return box;
+}
 
-  NearFieldHandover out;
-  out.oil_density = double(c.materials.oil.density);
-  Simulation sim(c);
-  const FluidParticles& fluid = sim.fluid();
-  out.particle_volume_m3 = std::pow(double(c.particle_diameter()), 3);
-  std::vector<char> was_active(fluid.position.size(), 0);
-  std::vector<Vec3> last_position(fluid.position.size()), last_velocity(fluid.position.size());
-  const auto remember = [&] {
-    if (was_active.size() < fluid.position.size()) {
-      was_active.resize(fluid.position.size(), 0);
-      last_position.resize(fluid.position.size());
-      last_velocity.resize(fluid.position.size());
+// The oil the scene's leaks were scheduled to release before its end (m^3).
+double scheduled_leak_volume(const SceneConfig& c) {
+  double leaked = 0;
+  for (const auto& leak : c.leaks) {
+    const double start = std::min(double(leak.start), double(c.end_time));
+    const double end = std::min(double(leak.start + leak.duration), double(c.end_time));
+    leaked += double(leak.rate) * std::max(0.0, end - start);
+  }
+  return leaked;
+}
+
+// Where each particle was when last active, so that oil retired since (at the outflow or over a
+// terrain edge) is handed over where it left the box.
+struct LastActive {
+  std::vector<char> active;
+  std::vector<Vec3> position;
+
+  void remember(const FluidParticles& fluid) {
+    if (active.size() < fluid.position.size()) {
+      active.resize(fluid.position.size(), 0);
+      position.resize(fluid.position.size());
     }
     for (Index s = 0; s < fluid.active; ++s) {
       const size_t id = size_t(fluid.id[size_t(s)]);
-      was_active[id] = 1;
-      last_position[id] = fluid.position[size_t(s)];
-      last_velocity[id] = fluid.velocity[size_t(s)];
+      active[id] = 1;
+      position[id] = fluid.position[size_t(s)];
     }
-  };
-  remember();
+  }
+  // The oil of the particles retired since the last call.
+  void collect_retired(const FluidParticles& fluid, OilParcelCollector& out) {
+    for (Index s = fluid.active; s < fluid.size(); ++s) {
+      const size_t id = size_t(fluid.id[size_t(s)]);
+      if (id >= active.size() || !active[id]) continue;
+      active[id] = 0;
+      out.add(position[id], fluid.oil_fraction[size_t(s)], fluid.rest_volume[size_t(s)]);
+    }
+  }
+};
+
+}  // namespace
+
+NearFieldHandover run_near_field_handover(const std::string& scene_file,
+                                          const std::vector<std::string>& overrides,
+                                          const FarFieldReachRun& far_field,
+                                          const std::atomic<bool>* stop, std::ostream* log,
+                                          bool terminal) {
+  const LoadedScene scene = load_scene(scene_file, overrides);
+  const SceneConfig& c = scene.config;
+  const reach::NearFieldWindow box = handover_box(c, scene_file, far_field);
+
+  NearFieldHandover out;
+  out.oil_density = double(c.materials.oil.density);
+  out.particle_volume_m3 = std::pow(double(c.particle_diameter()), 3);
+  Simulation sim(c);
+  const FluidParticles& fluid = sim.fluid();
+  LastActive last;
+  last.remember(fluid);
 
   const int frames = frame_count(c);
   common::ProgressReporter progress(log ? *log : std::cerr, terminal, frames,
@@ -136,34 +111,20 @@ NearFieldHandover run_near_field_handover(const std::string& scene_file,
   loop.interrupted_note = "nothing written";
   loop.progress = log ? &progress : nullptr;
   run_frames(sim, loop, [&](int, const FrameStats&, double) {
-    // Oil retired since the last frame left the box: at its last position there.
-    FrameParcels frame{&box, sim.time(), true, &out.parcels};
-    for (Index s = fluid.active; s < fluid.size(); ++s) {
-      const size_t id = size_t(fluid.id[size_t(s)]);
-      if (id >= was_active.size() || !was_active[id]) continue;
-      was_active[id] = 0;
-      frame.add(last_position[id], last_velocity[id], fluid.oil_fraction[size_t(s)],
-                fluid.rest_volume[size_t(s)]);
-    }
-    frame.finish();
-    out.left_m3 += frame.total;
-    remember();
+    OilParcelCollector retired(box, sim.time(), true, out.parcels);
+    last.collect_retired(fluid, retired);
+    out.left_m3 += retired.finish();
+    last.remember(fluid);
   });
   // What remains in the box at the end.
-  FrameParcels remaining{&box, sim.time(), false, &out.parcels};
+  OilParcelCollector remaining(box, sim.time(), false, out.parcels);
   for (Index s = 0; s < fluid.active; ++s)
-    remaining.add(fluid.position[size_t(s)], fluid.velocity[size_t(s)],
-                  fluid.oil_fraction[size_t(s)], fluid.rest_volume[size_t(s)]);
-  remaining.finish();
-  out.remaining_m3 = remaining.total;
+    remaining.add(fluid.position[size_t(s)], fluid.oil_fraction[size_t(s)],
+                  fluid.rest_volume[size_t(s)]);
+  out.remaining_m3 = remaining.finish();
   if (log) progress.finish(std::to_string(out.parcels.size()) + " parcels of oil");
 
-  double leaked = 0;
-  for (const auto& leak : c.leaks) {
-    const double start = std::min(double(leak.start), double(c.end_time));
-    const double end = std::min(double(leak.start + leak.duration), double(c.end_time));
-    leaked += double(leak.rate) * std::max(0.0, end - start);
-  }
+  const ReachWindowConfig& w = *c.terrain->reach;
   out.summary = {{"scene", scene_file},
                  {"end_time_s", sim.time()},
                  {"steps", sim.steps()},
@@ -171,7 +132,7 @@ NearFieldHandover run_near_field_handover(const std::string& scene_file,
                  {"left_box_m3", out.left_m3},
                  {"remaining_in_box_m3", out.remaining_m3},
                  {"handed_over_m3", out.left_m3 + out.remaining_m3},
-                 {"leak_schedule_m3", leaked},
+                 {"leak_schedule_m3", scheduled_leak_volume(c)},
                  {"particle_volume_m3", out.particle_volume_m3},
                  {"near_field_oil_density_kg_m3", out.oil_density},
                  {"box",

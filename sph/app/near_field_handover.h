@@ -5,8 +5,7 @@
 // position in the box; what oil remains in the box at the end becomes parcels then. A parcel
 // holds the oil volume (oil fraction x rest volume) of one particle of oil (oil fraction >= 0.5),
 // or, lumped per frame, of all the particles below that (water carrying traces of oil), so the
-// oil handed over is all the oil that entered the box, to rounding. Positions are map
-// coordinates of the reach's CRS (the box's frame turned by its heading).
+// oil handed over is all the oil that entered the box, to rounding (sph/near_field/oil_parcels.h).
 
 #include <atomic>
 #include <nlohmann/json.hpp>
@@ -14,16 +13,9 @@
 #include <string>
 #include <vector>
 
-namespace sph {
+#include "sph/near_field/oil_parcels.h"
 
-struct NearFieldParcel {
-  double t = 0;         // s of the near field's clock (its scene's time)
-  double x = 0, y = 0;  // map coordinates
-  double u = 0, v = 0;  // m/s, east and north, its velocity when it left
-  double volume = 0;    // m^3 of oil
-  double area = 0;      // m^2: the particles' cross-section, volume^(2/3) each
-  bool left = true;     // false: still in the box at the end
-};
+namespace sph {
 
 struct NearFieldHandover {
   std::vector<NearFieldParcel> parcels;

@@ -57,7 +57,7 @@ struct RiverGeneratorConfig {
 };
 
 // A near field inside a reach run (`spill-sim reach`): a box at the leak site, turned to run with
-// the river, whose terrain, water and inflow come from the run (sph/river/reach_terrain.h).
+// the river, whose terrain, water and inflow come from the run (sph/near_field/reach_terrain.h).
 struct ReachWindowConfig {
   std::string run;
   Real time = -1;

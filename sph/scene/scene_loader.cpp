@@ -5,8 +5,8 @@
 
 #include "sph/core/config.h"
 #include "sph/forces/non_pressure_force.h"
+#include "sph/near_field/reach_terrain.h"
 #include "sph/river/height_map_io.h"
-#include "sph/river/reach_terrain.h"
 #include "sph/river/river_generator.h"
 #include "sph/scene/scene_checks.h"
 #include "sph/scene/scene_size.h"

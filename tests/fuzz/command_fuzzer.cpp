@@ -15,7 +15,7 @@
 // bound, with no signal, and leave nothing but its inputs when it fails; a refused export leaves
 // its target byte for byte as it was. Prints a JSON summary; exits 1 when a case misbehaved.
 //
-//   command_fuzzer --sim build/sph/spill-sim --train build/train/spill-train
+//   command_fuzzer --sim build/sim/spill-sim --train build/train/spill-train
 //                  --infer build/infer/spill-infer --source . --work /tmp/fuzz --cases 120
 
 #include <CLI/CLI.hpp>

@@ -5,7 +5,7 @@
 // 1 or 2 with a message, within the time bound, with no signal, and leave no output behind when
 // it fails. Prints a JSON summary; exits 1 when a case misbehaved (its folder is kept).
 //
-//   data_fuzzer --sim build/sph/spill-sim --train build/train/spill-train
+//   data_fuzzer --sim build/sim/spill-sim --train build/train/spill-train
 //               --infer build/infer/spill-infer --source . --work /tmp/fuzz --cases 200
 
 #include <hdf5.h>

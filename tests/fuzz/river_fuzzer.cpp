@@ -6,7 +6,7 @@
 // config file (and with it the key). The channel is an ESRI ASCII grid written here, so the
 // fuzzer needs no GDAL of its own. Prints a JSON summary; exits 1 when a case misbehaved.
 //
-//   river_fuzzer --sim build/sph/spill-sim --command reach --work /tmp/fuzz --cases 200
+//   river_fuzzer --sim build/sim/spill-sim --command reach --work /tmp/fuzz --cases 200
 
 #include <CLI/CLI.hpp>
 #include <algorithm>

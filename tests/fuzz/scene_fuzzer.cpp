@@ -4,7 +4,7 @@
 // no signal, and leave nothing beside the scene when it fails. Prints a JSON summary; exits 1
 // when a case misbehaved (its folder is kept).
 //
-//   scene_fuzzer --sim build/sph/spill-sim --scenes configs/scenes --work /tmp/fuzz --cases 300
+//   scene_fuzzer --sim build/sim/spill-sim --scenes configs/scenes --work /tmp/fuzz --cases 300
 
 #include <CLI/CLI.hpp>
 #include <algorithm>

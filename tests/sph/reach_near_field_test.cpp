@@ -1,7 +1,8 @@
-// A MTDF-SPH near field inside a reach run (terrain source "reach", sph/river/reach_terrain.h):
-// a trapezoidal flume written here as a GeoTIFF runs to its steady state in the shallow-water
-// solver, and a 2 m box of it becomes an SPH scene whose terrain, water and inflow come from the
-// run. The near field's water flows into the box at the reach's depth-averaged velocity there.
+// A MTDF-SPH near field inside a reach run (terrain source "reach",
+// sph/near_field/reach_terrain.h): a trapezoidal flume written here as a GeoTIFF runs to its steady
+// state in the shallow-water solver, and a 2 m box of it becomes an SPH scene whose terrain, water
+// and inflow come from the run. The near field's water flows into the box at the reach's
+// depth-averaged velocity there.
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -16,6 +17,7 @@
 #include "farfield/forecast_run.h"
 #include "reach/raster.h"
 #include "reach/reach_run.h"
+#include "sim/far_field_parcels.h"
 #include "sph/app/near_field_handover.h"
 #include "sph/scene/scene_loader.h"
 #include "sph/simulation/simulation.h"
@@ -336,8 +338,7 @@ TEST_F(ReachNearField, TheOilHandedOverIsTheOilThatLeftOrRemainsInTheBox) {
   o.config_file = (dir_ / "forecast.json").string();
   o.out_dir = (dir_ / "forecast_out").string();
   o.pictures = false;
-  for (const NearFieldParcel& p : near.parcels)
-    o.handover.push_back({p.t, p.x, p.y, p.volume, p.area});
+  o.handover = sim::far_field_parcels(near.parcels);
   const nlohmann::json summary = farfield::run_forecast(o);
   const double density = summary["outputs"].back()["budget_kg"]["released"].get<double>() /
                          summary["handover"]["volume_m3"].get<double>();

@@ -11,7 +11,7 @@
 
 #include "common/command_line.h"
 #include "common/output_folder.h"
-#include "sph/app/commands/command.h"
+#include "sim/commands/command.h"
 #include "sph/generation/dataset_folder.h"
 
 namespace sph {

@@ -1,4 +1,4 @@
-#include "sph/river/reach_terrain.h"
+#include "sph/near_field/reach_terrain.h"
 
 #include <algorithm>
 #include <cmath>

@@ -12,7 +12,7 @@
 #include "common/command_line.h"
 #include "reach/reach_benchmark.h"
 #include "reach/reach_run.h"
-#include "sph/app/commands/command.h"
+#include "sim/commands/command.h"
 #include "sph/app/scene_runner.h"
 
 namespace sph {

@@ -1,4 +1,4 @@
-#include "sph/app/commands/command.h"
+#include "sim/commands/command.h"
 
 #include <omp.h>
 

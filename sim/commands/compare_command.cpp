@@ -11,7 +11,7 @@
 #include <memory>
 
 #include "common/command_line.h"
-#include "sph/app/commands/command.h"
+#include "sim/commands/command.h"
 #include "sph/app/solver_table.h"
 
 namespace sph {

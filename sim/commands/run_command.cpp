@@ -7,7 +7,7 @@
 #include <memory>
 
 #include "common/command_line.h"
-#include "sph/app/commands/command.h"
+#include "sim/commands/command.h"
 #include "sph/app/scene_runner.h"
 #include "sph/scene/scene_loader.h"
 

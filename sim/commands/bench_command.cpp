@@ -6,7 +6,7 @@
 
 #include "common/command_line.h"
 #include "common/exit_codes.h"
-#include "sph/app/commands/command.h"
+#include "sim/commands/command.h"
 #include "sph/app/scene_runner.h"
 #include "sph/app/solver_comparison.h"
 #include "sph/scene/scene_loader.h"

@@ -1,6 +1,5 @@
-// spill-sim: runs SPH scenes. A dispatcher: each subcommand's options and run are in
-// sph/app/commands/ (run, bench, generate, compare, scene-doc, reach); the work is in the sph
-// library.
+// spill-sim: SPH scenes, reaches and forecasts. A dispatcher: each subcommand's options and run
+// are in sim/commands/ (one file each); the work is in the sph, reach and farfield libraries.
 //   spill-sim run --scene FILE --out DIR [--set /pointer=value ...] [--threads N] [--ply] [--png]
 //                 [--force] [--save-state-at T] [--initial-state FILE]
 //   spill-sim bench [--scene FILE] [--radius R ...] [--threads N] [--set ...]
@@ -27,7 +26,7 @@
 #include "common/exit_codes.h"
 #include "common/hdf5_handles.h"
 #include "common/stop_signals.h"
-#include "sph/app/commands/command.h"
+#include "sim/commands/command.h"
 
 int main(int argc, char** argv) {
   common::skip_hdf5_exit_handler();

@@ -4,11 +4,11 @@
 // The far field: oil released on a finished reach run's flow, drifting, spreading, weathering
 // and stranding (farfield/forecast_run.h). Here, where the near field and the far field meet,
 // a config's near field is run first and its oil handed over as it leaves the box
-// (sph/app/near_field_handover.h); the pictures become a video (sph/io/animation.h).
+// (sph/app/near_field_handover.h, sim/far_field_parcels.h); the pictures become a video
+// (sph/io/animation.h).
 
 #include <unistd.h>
 
-#include <algorithm>
 #include <iostream>
 #include <memory>
 
@@ -16,7 +16,8 @@
 #include "common/exit_codes.h"
 #include "farfield/far_field_benchmark.h"
 #include "farfield/forecast_run.h"
-#include "sph/app/commands/command.h"
+#include "sim/commands/command.h"
+#include "sim/far_field_parcels.h"
 #include "sph/app/near_field_handover.h"
 #include "sph/app/scene_runner.h"
 #include "sph/io/animation.h"
@@ -70,10 +71,7 @@ Command add_forecast_command(CLI::App& app, const CommandContext& context) {
                   config.near_field->scene, config.near_field->set,
                   {config.flow.reach_run, run.config_file, "/near_field/scene"}, run.stop, run.log,
                   run.terminal);
-              for (const NearFieldParcel& p : near.parcels)
-                run.handover.push_back({p.t, p.x, p.y, p.volume, p.area});
-              std::stable_sort(run.handover.begin(), run.handover.end(),
-                               [](const auto& a, const auto& b) { return a.t < b.t; });
+              run.handover = sim::far_field_parcels(near.parcels);
               run.handover_summary = near.summary;
             }
             const nlohmann::json summary = farfield::run_forecast(run);

@@ -2,7 +2,7 @@
 
 #include <iostream>
 
-#include "sph/app/commands/command.h"
+#include "sim/commands/command.h"
 #include "sph/scene/scene_loader.h"
 
 namespace sph {
