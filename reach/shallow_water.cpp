@@ -96,6 +96,20 @@ struct ShallowWaterSolver::Scratch {
   size_t at(int i, int j) const { return size_t(j + kGhost) * size_t(px) + size_t(i + kGhost); }
   size_t fx_at(int f, int j) const { return size_t(j) * size_t(nx + 1) + size_t(f); }
   size_t fy_at(int i, int f) const { return size_t(f) * size_t(nx) + size_t(i); }
+  // The face on the reach's edge next to boundary cell (i, j) of `side`.
+  FaceFlux& boundary_face(Side side, int i, int j) {
+    switch (side) {
+      case Side::kWest:
+        return fx[fx_at(0, j)];
+      case Side::kEast:
+        return fx[fx_at(nx, j)];
+      case Side::kSouth:
+        return fy[fy_at(i, 0)];
+      case Side::kNorth:
+        return fy[fy_at(i, ny)];
+    }
+    return fx[0];
+  }
   void resize(int nx_, int ny_) {
     nx = nx_, ny = ny_, px = nx + 2 * kGhost, py = ny + 2 * kGhost;
     const size_t n = size_t(px) * size_t(py);
@@ -286,12 +300,27 @@ double ShallowWaterSolver::stable_dt() const {
   return rate > 0 ? settings_.cfl / rate : std::numeric_limits<double>::infinity();
 }
 
+// dU/dt in stages, as ANUGA keeps boundaries, fluxes and forcing apart: the padded cell values
+// with their ghosts (walls, then outflows), the reconstruction at the faces, the face fluxes,
+// the inflows' faces, and the update with the bed slope (friction is split off in step()).
 void ShallowWaterSolver::rate_of(const WaterState& w, WaterState& rate, double t, double weight) {
+  load_cells(w);
+  fill_wall_ghosts();
+  fill_outflow_ghosts(t);
+  reconstruct_faces();
+  compute_face_fluxes();
+  impose_inflows(t);
+  add_section_fluxes(t, weight);
+  update_rate(rate);
+  release_areas(rate, t);
+}
+
+// Cell values into the padded arrays: a closed cell holds no water and stands high; a dry one
+// holds no velocity.
+void ShallowWaterSolver::load_cells(const WaterState& w) {
   const int nx = grid_.nx, ny = grid_.ny;
   Scratch& s = *scratch_;
-  const double g = settings_.gravity, dry = settings_.dry_depth;
-
-  // Cell values, then the ghosts: walls (mirrors) everywhere, outflow sections overwritten.
+  const double dry = settings_.dry_depth;
 #pragma omp parallel for schedule(static)
   for (int j = 0; j < ny; ++j)
     for (int i = 0; i < nx; ++i) {
@@ -302,6 +331,12 @@ void ShallowWaterSolver::rate_of(const WaterState& w, WaterState& rate, double t
       s.u[p] = wet ? w.hu[c] / w.h[c] : 0.0;
       s.v[p] = wet ? w.hv[c] / w.h[c] : 0.0;
     }
+}
+
+// Walls everywhere: the ghosts mirror the cells inside, the normal velocity turned.
+void ShallowWaterSolver::fill_wall_ghosts() {
+  const int nx = grid_.nx, ny = grid_.ny;
+  Scratch& s = *scratch_;
   const auto mirror = [&](int gi, int gj, int i, int j, bool flip_u, bool flip_v) {
     const size_t gp = s.at(gi, gj), p = s.at(i, j);
     s.h[gp] = s.h[p];
@@ -319,6 +354,13 @@ void ShallowWaterSolver::rate_of(const WaterState& w, WaterState& rate, double t
       mirror(i, -1 - k, i, k, false, true);
       mirror(i, ny + k, i, ny - 1 - k, false, true);
     }
+}
+
+// Outflow sections overwrite the walls' ghosts: a stage, a normal depth, or free outflow.
+void ShallowWaterSolver::fill_outflow_ghosts(double t) {
+  const int nx = grid_.nx, ny = grid_.ny;
+  Scratch& s = *scratch_;
+  const double dry = settings_.dry_depth;
   for (const auto& b : outflows_) {
     const double stage = b.stage.at(t);
     const bool x_normal = west_or_east(b.section.side);
@@ -364,9 +406,14 @@ void ShallowWaterSolver::rate_of(const WaterState& w, WaterState& rate, double t
       }
     }
   }
+}
 
-  // MUSCL: limited slopes, flat next to a dry or closed cell; face values of h, the level,
-  // u and v, the face's bed being level minus depth (Audusse et al. 2004, section 4).
+// MUSCL: limited slopes, flat next to a dry or closed cell; face values of h, the level,
+// u and v, the face's bed being level minus depth (Audusse et al. 2004, section 4).
+void ShallowWaterSolver::reconstruct_faces() {
+  const int nx = grid_.nx, ny = grid_.ny;
+  Scratch& s = *scratch_;
+  const double dry = settings_.dry_depth;
   const bool second = settings_.second_order;
   const auto reconstruct = [&](size_t m, size_t p, size_t q, Field& ph, Field& pz, Field& pu,
                                Field& pv, Field& mh, Field& mz, Field& mu, Field& mv) {
@@ -399,8 +446,13 @@ void ShallowWaterSolver::rate_of(const WaterState& w, WaterState& rate, double t
         reconstruct(s.at(i, j - 1), p, s.at(i, j + 1), s.yn_h, s.yn_z, s.yn_u, s.yn_v, s.ys_h,
                     s.ys_z, s.ys_u, s.ys_v);
     }
+}
 
-    // Face fluxes.
+// The hydrostatic-reconstruction HLL flux at every face.
+void ShallowWaterSolver::compute_face_fluxes() {
+  const int nx = grid_.nx, ny = grid_.ny;
+  Scratch& s = *scratch_;
+  const double g = settings_.gravity, dry = settings_.dry_depth;
 #pragma omp parallel for schedule(static)
   for (int j = 0; j < ny; ++j)
     for (int f = 0; f <= nx; ++f) {
@@ -415,22 +467,13 @@ void ShallowWaterSolver::rate_of(const WaterState& w, WaterState& rate, double t
       s.fy[s.fy_at(i, f)] = hydrostatic_face({s.yn_h[l], s.yn_z[l], s.yn_v[l], s.yn_u[l]},
                                              {s.ys_h[r], s.ys_z[r], s.ys_v[r], s.ys_u[r]}, g, dry);
     }
+}
 
-  // Inflows: the face flux is the discharge itself, with the momentum it carries in and the
-  // pressure of its boundary depth.
-  const auto boundary_face = [&](Side side, int i, int j) -> FaceFlux& {
-    switch (side) {
-      case Side::kWest:
-        return s.fx[s.fx_at(0, j)];
-      case Side::kEast:
-        return s.fx[s.fx_at(nx, j)];
-      case Side::kSouth:
-        return s.fy[s.fy_at(i, 0)];
-      case Side::kNorth:
-        return s.fy[s.fy_at(i, ny)];
-    }
-    return s.fx[0];
-  };
+// Inflows: the face flux is the discharge itself, with the momentum it carries in and the
+// pressure of its boundary depth.
+void ShallowWaterSolver::impose_inflows(double t) {
+  Scratch& s = *scratch_;
+  const double g = settings_.gravity, dry = settings_.dry_depth;
   for (const auto& b : inflows_) {
     if (!b.area.empty()) continue;
     const bool x_normal = west_or_east(b.section.side);
@@ -452,7 +495,7 @@ void ShallowWaterSolver::rate_of(const WaterState& w, WaterState& rate, double t
     const double sign = inward(b.section.side);
     const bool low_side = sign > 0;
     for (size_t k = 0; k < cells.size(); ++k) {
-      FaceFlux& f = boundary_face(b.section.side, cells[k].first, cells[k].second);
+      FaceFlux& f = s.boundary_face(b.section.side, cells[k].first, cells[k].second);
       const double h = hb[k];
       f.flux.mass = sign * q[k];
       f.flux.normal = (h > dry ? q[k] * q[k] / h : 0.0) + 0.5 * g * h * h;
@@ -461,15 +504,18 @@ void ShallowWaterSolver::rate_of(const WaterState& w, WaterState& rate, double t
       (low_side ? f.right_correction : f.left_correction) = 0;
     }
   }
+}
 
-  // Boundary discharges, m^3/s into the reach.
+// The boundary sections' discharges (m^3/s into the reach), times `weight`, into the step's.
+void ShallowWaterSolver::add_section_fluxes(double t, double weight) {
+  Scratch& s = *scratch_;
   size_t section = 0;
   const auto section_flux = [&](const Section& sec) {
     const double width = west_or_east(sec.side) ? grid_.dy : grid_.dx;
     double total = 0;
     for (int k = sec.first; k <= sec.last; ++k) {
       const auto [i, j] = section_cell(grid_, sec.side, k);
-      total += inward(sec.side) * boundary_face(sec.side, i, j).flux.mass * width;
+      total += inward(sec.side) * s.boundary_face(sec.side, i, j).flux.mass * width;
     }
     return total;
   };
@@ -477,8 +523,13 @@ void ShallowWaterSolver::rate_of(const WaterState& w, WaterState& rate, double t
     step_section_flux_[section++] +=
         weight * (b.area.empty() ? section_flux(b.section) : b.discharge.at(t));
   for (const auto& b : outflows_) step_section_flux_[section++] += weight * section_flux(b.section);
+}
 
-  // The update: flux differences, pressure corrections and the centred bed-slope term.
+// The update: flux differences, pressure corrections and the centred bed-slope term.
+void ShallowWaterSolver::update_rate(WaterState& rate) const {
+  const int nx = grid_.nx, ny = grid_.ny;
+  const Scratch& s = *scratch_;
+  const double g = settings_.gravity;
   const double dx = grid_.dx, dy = grid_.dy;
 #pragma omp parallel for schedule(static)
   for (int j = 0; j < ny; ++j)
@@ -501,7 +552,6 @@ void ShallowWaterSolver::rate_of(const WaterState& w, WaterState& rate, double t
           ((n.flux.normal + n.left_correction) - (so.flux.normal + so.right_correction)) / dy +
           bed_y;
     }
-  release_areas(rate, t);
 }
 
 void ShallowWaterSolver::release_areas(WaterState& rate, double t) const {

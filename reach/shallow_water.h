@@ -124,6 +124,15 @@ class ShallowWaterSolver {
   // dU/dt of `u` into `rate`; adds the boundary mass fluxes (m^3/s) times `weight` to
   // `boundary_flux`.
   void rate_of(const WaterState& u, WaterState& rate, double t, double weight);
+  // Its stages, in order (shallow_water.cpp).
+  void load_cells(const WaterState& u);
+  void fill_wall_ghosts();
+  void fill_outflow_ghosts(double t);
+  void reconstruct_faces();
+  void compute_face_fluxes();
+  void impose_inflows(double t);
+  void add_section_fluxes(double t, double weight);
+  void update_rate(WaterState& rate) const;
   void apply_friction(double dt);
   // Adds the area inflows' water to `rate` (depth per second over their cells).
   void release_areas(WaterState& rate, double t) const;
