@@ -544,9 +544,8 @@ void write_oiling_picture(const fs::path& file, const ComparedTrajectories& c,
   common::write_png(file.string(), image_grid(grid));
 }
 
-}  // namespace
-
-void run_compare(const CompareOptions& o) {
+// Refuses option combinations that would compare unlike with unlike.
+void check_compare_options(const CompareOptions& o) {
   if (o.checkpoints.empty() && !o.constant_velocity && !(o.ceiling_jitter > 0))
     throw common::InputError("compare: give --checkpoints, --constant-velocity or --ceiling");
   if (o.members > 1 && o.replay_recorded_sources)
@@ -556,6 +555,67 @@ void run_compare(const CompareOptions& o) {
   if (o.ceiling_jitter > 0 && o.replay_recorded_sources)
     throw common::InputError(
         "compare: --ceiling runs the scene's own sources; it has no --replay-recorded-sources");
+}
+
+// Member j of trajectory k, rolled out by `model` (a learned simulator, or the dataset's own
+// solver for the ceiling) and scored; its frames are left in `kept`.
+TrajectoryScores run_member(ComparedModel& model, const ComparedTrajectories& c,
+                            const gnn::DatasetMetadata& m, const CompareOptions& o, size_t k, int j,
+                            Sources sources, gnn::RolloutResult& kept) {
+  const auto on_frame = [&](int64_t frame) {
+    common::throw_if_stopped(o.stop, [&] {
+      return "at frame " + std::to_string(frame) + " of " + model.name + " on " +
+             c.trajectories[k].source + "; nothing written";
+    });
+  };
+  const double member_jitter = o.member_jitter * 2 * m.particle_radius;  // m
+  // The ceiling's first member keeps its seed of one-run comparisons; every model's member j
+  // starts from the same jittered positions.
+  const uint64_t seed = uint64_t(k + 1) + 1000 * uint64_t(j);
+  const gnn::Trajectory& t = c.trajectories[k];
+  if (!model.simulator) {
+    const double jitter = o.members > 1 ? member_jitter : o.ceiling_jitter * 2 * m.particle_radius;
+    kept = gnn::solver_rollout(t, o.from, c.frames[k], m.frame_dt, jitter, seed, on_frame);
+    return score_frames(kept, t, m, c.scenes[k].get(), c.recorded[k], o.from, c.frames[k]);
+  }
+  const double jitter = o.members > 1 ? member_jitter : 0.0;
+  if (j == 0)
+    return score_rollout(*model.simulator, t, m, c.scenes[k].get(), c.recorded[k], o.from,
+                         c.frames[k], sources, o.relax, k == 0 ? &kept : nullptr, on_frame, jitter,
+                         seed);
+  // The one-step error is the same for every member: taken once, by member 0.
+  kept = roll_out(*model.simulator, t, o.from, c.frames[k], m.frame_dt, sources, on_frame,
+                  relaxation_hook(c.scenes[k].get(), o.relax), jitter, seed);
+  return score_frames(kept, t, m, c.scenes[k].get(), c.recorded[k], o.from, c.frames[k]);
+}
+
+// comparison.json's content.
+nlohmann::json comparison_json(const CompareOptions& o, const gnn::DatasetMetadata& m,
+                               const ComparedTrajectories& c, Sources sources,
+                               const nlohmann::json& rows, const nlohmann::json& sph) {
+  nlohmann::json trajectories = nlohmann::json::array();
+  for (size_t k = 0; k < c.trajectories.size(); ++k)
+    trajectories.push_back({{"source", c.trajectories[k].source}, {"frames", c.frames[k]}});
+  return {{"data", o.data_dir},
+          {"split", o.split},
+          {"from_frame", o.from},
+          {"frame_dt", m.frame_dt},
+          {"threads", o.threads},
+          {"relax_iterations", o.relax},
+          {"members", o.members},
+          {"member_jitter_diameters",
+           o.members > 1 ? nlohmann::json(o.member_jitter) : nlohmann::json(nullptr)},
+          {"sources", sources_name(sources)},
+          {"units", kUnits},
+          {"models", rows},
+          {"sph", sph},
+          {"trajectories", trajectories}};
+}
+
+}  // namespace
+
+void run_compare(const CompareOptions& o) {
+  check_compare_options(o);
   const Sources rollout_sources = sources_of(o.replay_recorded_sources);
   common::OutputFolderPolicy policy;
   policy.markers = {"comparison.json", "comparison.md"};  // teacher_student.md: optional
@@ -579,7 +639,6 @@ void run_compare(const CompareOptions& o) {
   std::vector<gnn::RolloutResult> pictured;  // each model's first member of the first trajectory
   // With members: every member of the first trajectory, per model (the probability of oiling).
   std::vector<std::vector<gnn::RolloutResult>> ensembles;
-  const double member_jitter = o.member_jitter * 2 * m.particle_radius;  // m
   long done = 0;
   for (auto& model : models) {
     const gnn::RuntimeSettings mix =
@@ -594,43 +653,12 @@ void run_compare(const CompareOptions& o) {
       std::vector<TrajectoryScores> members;
       for (int j = 0; j < o.members; ++j) {
         gnn::RolloutResult kept;
-        const auto on_frame = [&](int64_t frame) {
-          common::throw_if_stopped(o.stop, [&] {
-            return "at frame " + std::to_string(frame) + " of " + model.name + " on " +
-                   c.trajectories[k].source + "; nothing written";
-          });
-        };
-        // The ceiling's first member keeps its seed of one-run comparisons; every model's member
-        // j starts from the same jittered positions.
-        const uint64_t seed = uint64_t(k + 1) + 1000 * uint64_t(j);
-        const bool first = k == 0 && j == 0;
-        if (model.simulator) {
-          const double jitter = o.members > 1 ? member_jitter : 0.0;
-          if (j == 0) {
-            members.push_back(score_rollout(*model.simulator, c.trajectories[k], m,
-                                            c.scenes[k].get(), c.recorded[k], o.from, c.frames[k],
-                                            rollout_sources, o.relax, first ? &kept : nullptr,
-                                            on_frame, jitter, seed));
-          } else {  // the one-step error is the same for every member: taken once
-            kept = roll_out(*model.simulator, c.trajectories[k], o.from, c.frames[k], m.frame_dt,
-                            rollout_sources, on_frame, relaxation_hook(c.scenes[k].get(), o.relax),
-                            jitter, seed);
-            members.push_back(score_frames(kept, c.trajectories[k], m, c.scenes[k].get(),
-                                           c.recorded[k], o.from, c.frames[k]));
-          }
-        } else {
-          const double jitter =
-              o.members > 1 ? member_jitter : o.ceiling_jitter * 2 * m.particle_radius;
-          kept = gnn::solver_rollout(c.trajectories[k], o.from, c.frames[k], m.frame_dt, jitter,
-                                     seed, on_frame);
-          members.push_back(score_frames(kept, c.trajectories[k], m, c.scenes[k].get(),
-                                         c.recorded[k], o.from, c.frames[k]));
-        }
+        members.push_back(run_member(model, c, m, o, k, j, rollout_sources, kept));
         if (k == 0 && o.members > 1) {
           if (j == 0) ensembles.emplace_back();
           ensembles.back().push_back(kept);  // shares the tensors
         }
-        if (first) pictured.push_back(std::move(kept));
+        if (k == 0 && j == 0) pictured.push_back(std::move(kept));
         if (progress)
           progress->update(++done, model.name + " " + c.trajectories[k].source +
                                        (o.members > 1 ? " member " + std::to_string(j + 1) : ""));
@@ -645,24 +673,7 @@ void run_compare(const CompareOptions& o) {
 
   std::vector<double> sph_rates;
   const nlohmann::json sph = sph_reference(c, m, sph_rates);
-  nlohmann::json sources = nlohmann::json::array();
-  for (size_t k = 0; k < c.trajectories.size(); ++k)
-    sources.push_back({{"source", c.trajectories[k].source}, {"frames", c.frames[k]}});
-  const nlohmann::json result = {
-      {"data", o.data_dir},
-      {"split", o.split},
-      {"from_frame", o.from},
-      {"frame_dt", m.frame_dt},
-      {"threads", o.threads},
-      {"relax_iterations", o.relax},
-      {"members", o.members},
-      {"member_jitter_diameters",
-       o.members > 1 ? nlohmann::json(o.member_jitter) : nlohmann::json(nullptr)},
-      {"sources", sources_name(rollout_sources)},
-      {"units", kUnits},
-      {"models", rows},
-      {"sph", sph},
-      {"trajectories", sources}};
+  const nlohmann::json result = comparison_json(o, m, c, rollout_sources, rows, sph);
   const fs::path out = output.staging();
   common::write_file_atomically((out / "comparison.json").string(), result.dump(2) + "\n");
   common::write_file_atomically(

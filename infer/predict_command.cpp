@@ -82,10 +82,17 @@ gnn::Bounds bounds_of(const sph::Aabb& domain) {
   return b;
 }
 
+// The scene with --end-time applied; refuses members on a scene with no river leak to measure.
 sph::LoadedScene load_predicted_scene(const PredictOptions& o) {
+  if (o.members < 1) throw common::InputError("predict: --members must be at least 1");
   std::vector<std::string> overrides = o.overrides;
   if (o.end_time > 0) overrides.push_back("/end_time=" + text(o.end_time));
-  return sph::load_scene(o.scene_file, overrides);
+  sph::LoadedScene scene = sph::load_scene(o.scene_file, overrides);
+  if (o.members > 1 && !sph::river_spill_metrics(scene.config))
+    throw common::ConfigError(scene.file, "/leaks",
+                              "--members summarises a river leak's spill metrics; the scene has "
+                              "no leak over terrain");
+  return scene;
 }
 
 common::OutputFolderPolicy output_policy(const PredictOptions& o) {
@@ -287,16 +294,39 @@ class EnsembleRecorder {
   std::vector<std::vector<common::Point>> water_;  // the first member's, at the moments
 };
 
+// stats.json's entry for one learned frame of the first member.
+nlohmann::json learned_frame_record(const sph::Simulation& sim, double wall_s,
+                                    const sph::ExternalFrameStats& retired) {
+  nlohmann::json record = {{"t", sim.time()},
+                           {"wall_s", wall_s},
+                           {"active", sim.fluid().active_count()},
+                           {"retired", retired.retired},
+                           {"left_domain", retired.left_domain}};
+  if (const sph::RiverFlow* flow = sim.flow()) record["oil_left_m3"] = flow->oil_left_volume();
+  return record;
+}
+
+// stats.json's "members": each member's wall time, and what they include.
+nlohmann::json members_json(const PredictOptions& o, const std::vector<double>& member_wall_s,
+                            long per_member) {
+  double all = 0;
+  for (double w : member_wall_s) all += w;
+  return {{"count", o.members},
+          {"member_jitter_diameters", o.member_jitter},
+          {"wall_s", member_wall_s},
+          {"wall_s_all", all},
+          {"wall_s_per_frame", all / double(std::max(1L, per_member * o.members))},
+          {"note",
+           "wall_s: each member's learned frames with their sources, sinks and measures (the "
+           "first also records this folder); start_up_s (loading the scene and the model, once) "
+           "is apart"}};
+}
+
 }  // namespace
 
 nlohmann::json run_predict(const PredictOptions& o) {
   const auto started = std::chrono::steady_clock::now();
-  if (o.members < 1) throw common::InputError("predict: --members must be at least 1");
   const sph::LoadedScene scene = load_predicted_scene(o);
-  if (o.members > 1 && !sph::river_spill_metrics(scene.config))
-    throw common::ConfigError(scene.file, "/leaks",
-                              "--members summarises a river leak's spill metrics; the scene has "
-                              "no leak over terrain");
   gnn::LoadedCheckpoint checkpoint = gnn::load_checkpoint(o.checkpoint);
   check_scene_fits(checkpoint.data, scene, o.checkpoint);
   gnn::GraphModel& model = checkpoint.simulator->model();
@@ -360,13 +390,7 @@ nlohmann::json run_predict(const PredictOptions& o) {
       if (ensemble) ensemble->measure(*sim, frame);
       if (recorder) {
         recorder->record(*sim, frame);
-        frame_list.push_back({{"t", sim->time()},
-                              {"wall_s", wall},
-                              {"active", sim->fluid().active_count()},
-                              {"retired", retired.retired},
-                              {"left_domain", retired.left_domain}});
-        if (const sph::RiverFlow* flow = sim->flow())
-          frame_list.back()["oil_left_m3"] = flow->oil_left_volume();
+        frame_list.push_back(learned_frame_record(*sim, wall, retired));
       }
       if (o.log)
         progress.update((member - 1) * per_member + frame - first,
@@ -385,18 +409,7 @@ nlohmann::json run_predict(const PredictOptions& o) {
   summary["start_up_s"] = start_up_s;
   if (ensemble) {
     ensemble->write(staging, *sim);
-    double all = 0;
-    for (double w : member_wall_s) all += w;
-    summary["members"] = {
-        {"count", o.members},
-        {"member_jitter_diameters", o.member_jitter},
-        {"wall_s", member_wall_s},
-        {"wall_s_all", all},
-        {"wall_s_per_frame", all / double(std::max(1L, per_member * o.members))},
-        {"note",
-         "wall_s: each member's learned frames with their sources, sinks and measures (the "
-         "first also records this folder); start_up_s (loading the scene and the model, once) "
-         "is apart"}};
+    summary["members"] = members_json(o, member_wall_s, per_member);
   }
   common::write_file_atomically(
       staging / "stats.json",
