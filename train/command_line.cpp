@@ -18,35 +18,14 @@ namespace {
 void add_generation_options(CLI::App& app, TrainCommandLine& c) {
   SceneDataOptions& scene = c.scene;
   CLI::Option* scene_option = c.scene_option;
-  std::string& split = c.split;
-  std::vector<std::string>& vary = c.vary;
   auto* generate = app.add_option_group(
       "with --scene", "spill-sim generate's options, with the same names and meanings");
-  auto* trajectories =
-      generate->add_option("--trajectories", scene.generate.trajectories, "number of trajectories")
-          ->check(common::positive());
-  scene_option->needs(trajectories);
-  std::vector<CLI::Option*> scene_only = {trajectories};
-  scene_only.push_back(
-      generate->add_option("--vary", vary, "draw a scene value per trajectory: /pointer=LO:HI"));
-  scene_only.push_back(generate
-                           ->add_option("--seed", scene.generate.seed,
-                                        "seed of the --vary draws (the training seed is the "
-                                        "training config's /seed)")
-                           ->capture_default_str());
-  scene_only.push_back(
-      generate->add_option("--split", split, "train/valid/test fractions of the trajectories")
-          ->capture_default_str());
-  scene_only.push_back(
-      generate
-          ->add_option("--frames", scene.generate.frames,
-                       "recorded frames per trajectory after the warm-up (default: to the end)")
-          ->check(common::positive()));
-  scene_only.push_back(
-      generate
-          ->add_option("--warm-up", scene.generate.warm_up,
-                       "seconds simulated before recording (default: the first leak's start)")
-          ->check(common::non_negative()));
+  std::vector<CLI::Option*> scene_only =
+      sph::add_generation_options(*generate, scene.generate, c.generation);
+  scene_option->needs(scene_only.front());  // --trajectories
+  scene_only[2]->description(
+      "Seed of the --vary draws (the training seed is the training "
+      "config's /seed)");
   scene_only.push_back(generate->add_option(
       "--set-scene", scene.generate.overrides,
       "override a scene value: /json/pointer=value (spill-sim generate's --set)"));
@@ -122,8 +101,6 @@ void run_training(TrainCommandLine& c) {
   SceneDataOptions& scene = c.scene;
   int& threads = c.threads;
   int& blas_threads = c.blas_threads;
-  std::string& split = c.split;
-  std::vector<std::string>& vary = c.vary;
   std::string& device = c.device;
   gnn::configure_runtime({threads, blas_threads});
   // Under torchrun or srun: join the other ranks (train/data_parallel.h); rank 0 alone prints.
@@ -143,8 +120,9 @@ void run_training(TrainCommandLine& c) {
   options.device = gnn::parse_device(device);
   std::unique_ptr<Trainer> trainer;
   if (*c.scene_option) {
-    for (const auto& v : vary) scene.generate.vary.push_back(sph::parse_parameter_range(v));
-    scene.generate.split = sph::parse_split(split);
+    for (const auto& v : c.generation.vary)
+      scene.generate.vary.push_back(sph::parse_parameter_range(v));
+    scene.generate.split = sph::parse_split(c.generation.split);
     scene.generate.threads = threads;
     scene.generate.log = options.log;
     scene.generate.stop = options.stop;  // an interrupted simulation writes no --save-data

@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "sph/generation/generation_command_line.h"
 #include "train/scene_data.h"
 #include "train/trainer.h"
 
@@ -16,8 +17,7 @@ struct TrainCommandLine {
   SceneDataOptions scene;
   int threads = 2;
   int blas_threads = 0;
-  std::string split = "0.8/0.1/0.1";
-  std::vector<std::string> vary;
+  sph::GenerationOptionText generation;  // --vary and --split as given
   std::string device = "cpu";
   double collective_timeout_s = 300;  // a data-parallel launch: how long a rank waits for the rest
   CLI::Option* scene_option = nullptr;  // --scene: simulate the data in this process

@@ -13,14 +13,15 @@
 #include "common/output_folder.h"
 #include "sim/commands/command.h"
 #include "sph/generation/dataset_folder.h"
+#include "sph/generation/generation_command_line.h"
 
 namespace sph {
 
 namespace {
 struct GenerateCommandOptions {
   GenerateOptions generate;
-  std::string out_dir, split = "0.8/0.1/0.1", shard;
-  std::vector<std::string> vary;
+  std::string out_dir, shard;
+  GenerationOptionText text;  // --vary, --split
   int threads = 1;
   bool assemble = false;
 };
@@ -56,19 +57,9 @@ Command add_generate_command(CLI::App& app, const CommandContext& context) {
   auto* c = app.add_subcommand(
       "generate", "Simulate N trajectories with drawn parameters into train/valid/test.h5");
   auto* scene = c->add_option("--scene", g.scene_file, "Scene JSON file");
-  auto* trajectories = c->add_option("--trajectories", g.trajectories, "Number of trajectories")
-                           ->check(common::positive());
   c->add_option("--out", o->out_dir, "Dataset folder (resumed if it holds a partial run)")
       ->required();
-  c->add_option("--vary", o->vary, "Draw a scene value per trajectory: /pointer=LO:HI");
-  c->add_option("--seed", g.seed, "Seed of the draws")->capture_default_str();
-  c->add_option("--split", o->split, "Train/valid/test fractions")->capture_default_str();
-  c->add_option("--frames", g.frames,
-                "Recorded frames per trajectory after the warm-up (default: to the end)")
-      ->check(common::positive());
-  c->add_option("--warm-up", g.warm_up,
-                "Seconds simulated before recording (default: the first leak's start)")
-      ->check(common::non_negative());
+  CLI::Option* trajectories = add_generation_options(*c, g, o->text).front();
   c->add_option("--set", g.overrides, "Override a scene value: /json/pointer=value");
   c->add_option("--threads", o->threads,
                 "OpenMP threads (1, the default, makes datasets bit-reproducible)")
@@ -93,8 +84,8 @@ Command add_generate_command(CLI::App& app, const CommandContext& context) {
                     "generate: --scene and --trajectories are required (or --assemble)");
               options = o->generate;
               options.out_dir = out_dir;
-              for (const auto& v : o->vary) options.vary.push_back(parse_parameter_range(v));
-              options.split = parse_split(o->split);
+              for (const auto& v : o->text.vary) options.vary.push_back(parse_parameter_range(v));
+              options.split = parse_split(o->text.split);
               options.shard = shard_of(o->shard);
             }
             if (o->assemble)
