@@ -18,14 +18,15 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// The in-process sink: the recorder's tensors, kept in memory. With --save-data it also opens
-// the folder they are saved to, once the request is checked and before anything is simulated.
+// The in-process sink: the recorder's tensors, kept in memory. With --save-data it tees every
+// trajectory to spill-sim generate's own folder sink, writing into a folder it opens once the
+// request is checked and before anything is simulated.
 class RecorderSink : public sph::TrajectorySink {
  public:
   RecorderSink(const sph::GenerateOptions& options, std::string save_dir)
       : options_(options), save_dir_(std::move(save_dir)) {}
 
-  void start(const sph::GenerateOptions&, const std::vector<sph::TrajectoryPlan>&) override {
+  void start(const sph::GenerateOptions& o, const std::vector<sph::TrajectoryPlan>& p) override {
     if (save_dir_.empty()) return;
     // Never replaced: a dataset folder may hold what took hours to simulate.
     if (fs::exists(common::normalise_output_path(save_dir_)))
@@ -37,22 +38,36 @@ class RecorderSink : public sph::TrajectorySink {
     policy.inputs = {options_.scene_file};
     policy.log = options_.log;
     saved.emplace(save_dir_, policy);
+    folder_ = sph::dataset_folder_sink(saved->staging());
+    folder_->start(o, p);
   }
   std::string interrupted_note(const sph::TrajectoryPlan&) const override {
     return "nothing was saved or trained (the data are simulated first)";
   }
   // Built before the simulation runs, as the generator's file is: particle types are a
   // particle's phase when it was made.
-  void begin(const sph::Simulation& sim, const sph::TrajectoryPlan&) override {
+  void begin(const sph::Simulation& sim, const sph::TrajectoryPlan& p) override {
     recorder_.emplace(sim, 1);
+    if (folder_) folder_->begin(sim, p);
   }
-  void record(const sph::Simulation& sim) override { recorder_->record(sim); }
-  void end(const sph::TrajectoryPlan&, const nlohmann::json&) override {
+  void record(const sph::Simulation& sim) override {
+    recorder_->record(sim);
+    if (folder_) folder_->record(sim);
+  }
+  void end(const sph::TrajectoryPlan& p, const nlohmann::json& description) override {
     recorded.push_back(recorder_->take());
     recorder_.reset();
+    if (folder_) folder_->end(p, description);
   }
-  void finish(const std::vector<sph::TrajectoryPlan>& p, const nlohmann::json&) override {
+  void abandon(const sph::TrajectoryPlan& p) override {
+    if (folder_) folder_->abandon(p);
+  }
+  void finish(const std::vector<sph::TrajectoryPlan>& p, const nlohmann::json& metadata) override {
     plan = p;
+    if (!folder_) return;
+    folder_->finish(p, metadata);
+    // The dataset's files only: the parts that let a generation resume have no use here.
+    fs::remove_all(saved->staging() / "parts");
   }
 
   std::vector<sph::TrajectoryPlan> plan;
@@ -63,40 +78,13 @@ class RecorderSink : public sph::TrajectorySink {
   const sph::GenerateOptions& options_;
   std::string save_dir_;
   std::optional<sph::TensorRecorder> recorder_;
+  std::unique_ptr<sph::TrajectorySink> folder_;  // --save-data's dataset folder
 };
 
 // FNV-1a over the bytes of tensors.
 void add_tensor(common::Fnv1a& hash, const at::Tensor& t) {
   const at::Tensor c = t.contiguous();
   hash.add(c.data_ptr(), size_t(c.numel()) * c.element_size());
-}
-
-std::string part_name(int index) {
-  std::ostringstream s;
-  s << "trajectory_" << std::setw(5) << std::setfill('0') << index << ".h5";
-  return s.str();
-}
-
-// Writes the dataset files into `folder`: each trajectory as a part file, assembled into the
-// split files as the generator assembles its parts, then metadata.json.
-void write_dataset(const fs::path& folder, const std::vector<sph::TrajectoryPlan>& plan,
-                   const std::vector<sph::RecordedTrajectory>& recorded,
-                   const nlohmann::json& metadata) {
-  const fs::path parts = folder / "parts";
-  fs::create_directories(parts);
-  std::vector<fs::path> files;
-  for (const auto& p : plan) {
-    files.push_back(parts / part_name(p.index));
-    sph::write_trajectory(files.back().string(), "00000", recorded[size_t(p.index)]);
-  }
-  for (int s = 0; s < 3; ++s) {
-    std::vector<fs::path> members;
-    for (const auto& p : plan)
-      if (p.split == s) members.push_back(files[size_t(p.index)]);
-    sph::assemble_split(folder / (std::string(sph::split_name(s)) + ".h5"), members);
-  }
-  fs::remove_all(parts);
-  common::write_file_atomically(folder / "metadata.json", metadata.dump(2) + "\n");
 }
 
 }  // namespace
@@ -112,7 +100,6 @@ SimulatedDataset simulate_dataset(const sph::GenerateOptions& options,
   SimulatedDataset out;
   std::string where = options.scene_file + " (simulated in-process)";
   if (saved) {
-    write_dataset(saved->staging(), plan, recorded, metadata);
     saved->commit();
     where = (saved->target() / "metadata.json").string();
   }

@@ -276,6 +276,10 @@ class DatasetFolderSink : public TrajectorySink {
 
 }  // namespace
 
+std::unique_ptr<TrajectorySink> dataset_folder_sink(const fs::path& folder) {
+  return std::make_unique<DatasetFolderSink>(folder);
+}
+
 void assemble_split(const fs::path& file, const std::vector<fs::path>& parts) {
   const fs::path tmp = process_temporary(file);
   const hid_t out = H5Fcreate(tmp.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);

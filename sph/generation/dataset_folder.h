@@ -11,6 +11,7 @@
 // process through temporaries of its own, so two doing it at once write the same files).
 
 #include <filesystem>
+#include <memory>
 #include <nlohmann/json.hpp>
 #include <vector>
 
@@ -25,6 +26,11 @@ namespace sph {
 // this call made is removed again when it fails before any trajectory is finished, unless it is
 // a shard's.
 GenerationResult generate_dataset(const GenerateOptions& options);
+
+// The sink generate_dataset writes `folder` with: parts/ as the trajectories finish, the splits
+// and metadata.json at the end. For a dataset written beside another sink's work (spill-train's
+// --save-data tees it), into a folder of its own.
+std::unique_ptr<TrajectorySink> dataset_folder_sink(const std::filesystem::path& folder);
 
 // The request stored in `out_dir`/parts/request.json as options that assemble it
 // (`spill-sim generate --assemble`). Throws ConfigError naming the file and key.
