@@ -100,6 +100,15 @@ class AgnbBlock : public ProcessorBlock {
 
  private:
   BlockLatents forward_in_chunks(const BlockLatents& in, const TypedGraph& graph);
+  // Its passes (agnb_inference.cpp): over the edges, the nodes, the edges again, then the nodes.
+  struct EdgePass;
+  struct NodePass;
+  EdgePass edge_pass(const torch::Tensor& v, const torch::Tensor& e, const TypedGraph& graph);
+  NodePass node_pass(const torch::Tensor& v, const torch::Tensor& summed);
+  std::pair<torch::Tensor, torch::Tensor> message_pass(const EdgePass& edges, const NodePass& nodes,
+                                                       const TypedGraph& graph);
+  torch::Tensor node_update_pass(const torch::Tensor& v, const torch::Tensor& h,
+                                 const torch::Tensor& aggregated);
   // BN over the rows; a batch of one row or none in training uses the running statistics
   // (batch statistics of a single row are undefined).
   torch::Tensor batch_norm(torch::nn::BatchNorm1d& bn, const torch::Tensor& x);
