@@ -11,47 +11,57 @@
 
 namespace gnn {
 
-HeterogeneousTyping type_graph(const torch::Tensor& position_in, const torch::Tensor& node_type_in,
-                               const torch::Tensor& edge_index_in, double radius,
-                               double particle_volume, SurfaceRule rule) {
-  const std::string where = "heterogeneous typing";
-  check_tensor(where, "position", position_in, {-1, 3}, torch::kFloat32, torch::kCPU, false);
-  const int64_t n = position_in.size(0);
-  check_tensor(where, "node_type", node_type_in, {n}, torch::kInt64, torch::kCPU, false);
-  check_tensor(where, "edge_index", edge_index_in, {2, -1}, torch::kInt64, torch::kCPU, false);
-  const auto position = position_in.contiguous();
-  const auto node_type = node_type_in.contiguous();
-  const auto edge_index = edge_index_in.contiguous();
-  const int64_t E = edge_index.size(1);
-  const float* x = position.data_ptr<float>();
-  const int64_t* type = node_type.data_ptr<int64_t>();
-  const int64_t* senders = edge_index.data_ptr<int64_t>();
-  const int64_t* receivers = senders + E;
-  for (int64_t i = 0; i < n; ++i)
-    if (type[i] < kWater || type[i] > kBoundary)
+namespace {
+
+// The edges and nodes the typing reads, as raw arrays (the tensors kept alive by the caller).
+struct TypingInput {
+  int64_t n = 0, E = 0;
+  const float* x = nullptr;
+  const int64_t *type = nullptr, *senders = nullptr, *receivers = nullptr;
+};
+
+// Refuses node types outside the contract's, edges naming nodes that are not there, and edges
+// not sorted by receiver.
+void check_typing_input(const TypingInput& in, const std::string& where) {
+  for (int64_t i = 0; i < in.n; ++i)
+    if (in.type[i] < kWater || in.type[i] > kBoundary)
       throw std::invalid_argument(where + ": node " + std::to_string(i) + " has type " +
-                                  std::to_string(type[i]) + " (0 water, 1 oil, 2 boundary)");
-  for (int64_t k = 0; k < E; ++k) {
-    if (senders[k] < 0 || senders[k] >= n || receivers[k] < 0 || receivers[k] >= n)
+                                  std::to_string(in.type[i]) + " (0 water, 1 oil, 2 boundary)");
+  for (int64_t k = 0; k < in.E; ++k) {
+    const int64_t j = in.senders[k], i = in.receivers[k];
+    if (j < 0 || j >= in.n || i < 0 || i >= in.n)
       throw std::invalid_argument(where + ": edge " + std::to_string(k) +
-                                  " names a node outside 0.." + std::to_string(n - 1));
-    if (k > 0 && receivers[k] < receivers[k - 1])
+                                  " names a node outside 0.." + std::to_string(in.n - 1));
+    if (k > 0 && i < in.receivers[k - 1])
       throw std::invalid_argument(where + ": the edges are not sorted by receiver (edge " +
                                   std::to_string(k) + ")");
   }
-  // Kernel sums and neighbour centroids over the same phase (and the boundary), and whether a
-  // neighbour is of the other fluid phase.
+}
+
+// Kernel sums and neighbour centroids over the same phase (and the boundary), and which fluid
+// nodes lie in the interface band: the other fluid phase within two hops.
+struct PhaseNeighbourhood {
+  torch::Tensor kernel_sum, centroid_offset;  // [n] each
+  std::vector<char> interface_band;
+};
+
+PhaseNeighbourhood phase_neighbourhood(const TypingInput& in, double radius,
+                                       double particle_volume) {
+  const int64_t n = in.n;
+  const float* x = in.x;
+  const int64_t* type = in.type;
   const sph::CubicSplineKernel kernel{sph::Real(radius)};
   const float self = float(kernel.value(sph::Real(0)) * particle_volume);
-  auto kernel_sum = torch::zeros({n});
-  float* sum = kernel_sum.data_ptr<float>();
+  PhaseNeighbourhood out;
+  out.kernel_sum = torch::zeros({n});
+  float* sum = out.kernel_sum.data_ptr<float>();
   std::vector<double> offset_sum(size_t(3 * n), 0.0);
   std::vector<int64_t> same_phase_neighbours(size_t(n), 0);
   std::vector<char> other_phase_near(size_t(n), 0);
   for (int64_t i = 0; i < n; ++i)
     if (type[i] != kBoundary) sum[i] = self;
-  for (int64_t k = 0; k < E; ++k) {
-    const int64_t i = receivers[k], j = senders[k];
+  for (int64_t k = 0; k < in.E; ++k) {
+    const int64_t i = in.receivers[k], j = in.senders[k];
     if (type[i] == kBoundary) continue;
     if (type[j] == kBoundary || type[j] == type[i]) {
       const float dx = x[3 * j] - x[3 * i], dy = x[3 * j + 1] - x[3 * i + 1],
@@ -67,8 +77,8 @@ HeterogeneousTyping type_graph(const torch::Tensor& position_in, const torch::Te
     }
   }
   const double diameter = std::cbrt(particle_volume);
-  auto centroid_offset = torch::zeros({n});
-  float* offset = centroid_offset.data_ptr<float>();
+  out.centroid_offset = torch::zeros({n});
+  float* offset = out.centroid_offset.data_ptr<float>();
   for (int64_t i = 0; i < n; ++i) {
     if (type[i] == kBoundary) continue;
     const auto count = double(same_phase_neighbours[size_t(i)]);
@@ -80,16 +90,44 @@ HeterogeneousTyping type_graph(const torch::Tensor& position_in, const torch::Te
     offset[i] = float(std::sqrt(o[0] * o[0] + o[1] * o[1] + o[2] * o[2]) / count / diameter);
   }
   // Two hops: a neighbour with the other phase one hop from it.
-  std::vector<char> interface_band = other_phase_near;
-  for (int64_t k = 0; k < E; ++k) {
-    const int64_t i = receivers[k], j = senders[k];
+  out.interface_band = other_phase_near;
+  for (int64_t k = 0; k < in.E; ++k) {
+    const int64_t i = in.receivers[k], j = in.senders[k];
     if (type[i] != kBoundary && type[j] != kBoundary && other_phase_near[size_t(j)])
-      interface_band[size_t(i)] = 1;
+      out.interface_band[size_t(i)] = 1;
   }
+  return out;
+}
+
+}  // namespace
+
+HeterogeneousTyping type_graph(const torch::Tensor& position_in, const torch::Tensor& node_type_in,
+                               const torch::Tensor& edge_index_in, double radius,
+                               double particle_volume, SurfaceRule rule) {
+  const std::string where = "heterogeneous typing";
+  check_tensor(where, "position", position_in, {-1, 3}, torch::kFloat32, torch::kCPU, false);
+  const int64_t n = position_in.size(0);
+  check_tensor(where, "node_type", node_type_in, {n}, torch::kInt64, torch::kCPU, false);
+  check_tensor(where, "edge_index", edge_index_in, {2, -1}, torch::kInt64, torch::kCPU, false);
+  const auto position = position_in.contiguous();
+  const auto node_type = node_type_in.contiguous();
+  const auto edge_index = edge_index_in.contiguous();
+  TypingInput in;
+  in.n = n;
+  in.E = edge_index.size(1);
+  in.x = position.data_ptr<float>();
+  in.type = node_type.data_ptr<int64_t>();
+  in.senders = edge_index.data_ptr<int64_t>();
+  in.receivers = in.senders + in.E;
+  check_typing_input(in, where);
+  const PhaseNeighbourhood near = phase_neighbourhood(in, radius, particle_volume);
+  const int64_t* type = in.type;
+  const float* sum = near.kernel_sum.data_ptr<float>();
+  const float* offset = near.centroid_offset.data_ptr<float>();
 
   HeterogeneousTyping out;
-  out.kernel_sum = kernel_sum;
-  out.centroid_offset = centroid_offset;
+  out.kernel_sum = near.kernel_sum;
+  out.centroid_offset = near.centroid_offset;
   out.node_class = torch::empty({n}, torch::kInt64);
   int64_t* node_class = out.node_class.data_ptr<int64_t>();
   std::vector<char> surface(size_t(n), 0);
@@ -101,13 +139,13 @@ HeterogeneousTyping type_graph(const torch::Tensor& position_in, const torch::Te
     const bool by_rule = rule.kind == SurfaceRule::Kind::kKernelSum
                              ? sum[i] < float(rule.threshold)
                              : offset[i] > float(rule.threshold);
-    surface[size_t(i)] = by_rule || interface_band[size_t(i)];
+    surface[size_t(i)] = by_rule || near.interface_band[size_t(i)];
     node_class[i] = (type[i] == kOil ? kOilInner : kWaterInner) + surface[size_t(i)];
   }
-  out.link_type = torch::empty({E}, torch::kInt64);
+  out.link_type = torch::empty({in.E}, torch::kInt64);
   int64_t* link = out.link_type.data_ptr<int64_t>();
-  for (int64_t k = 0; k < E; ++k) {
-    const int64_t i = receivers[k], j = senders[k];
+  for (int64_t k = 0; k < in.E; ++k) {
+    const int64_t i = in.receivers[k], j = in.senders[k];
     if (type[i] == kBoundary || type[j] == kBoundary)
       link[k] = kLinkBD;
     else if (type[i] != type[j])
