@@ -32,19 +32,19 @@ int main(int argc, char** argv) {
   common::skip_hdf5_exit_handler();
   CLI::App app{"spill-sim: two-phase SPH simulation of oil spills in rivers"};
   app.require_subcommand(1);
-  const sph::CommandContext context{common::stop_flag(), &common::catch_stop_signals};
-  const std::vector<sph::Command> commands = {
-      sph::add_run_command(app, context),
-      sph::add_bench_command(app, context),
-      sph::add_generate_command(app, context),
-      sph::add_compare_command(app, context),
-      sph::add_scene_doc_command(app, context),
-      sph::add_reach_command(app, context),
-      sph::add_reach_doc_command(app, context),
-      sph::add_reach_bench_command(app, context),
-      sph::add_forecast_command(app, context),
-      sph::add_forecast_doc_command(app, context),
-      sph::add_forecast_bench_command(app, context),
+  const sim::CommandContext context{common::stop_flag(), &common::catch_stop_signals};
+  const std::vector<sim::Command> commands = {
+      sim::add_run_command(app, context),
+      sim::add_bench_command(app, context),
+      sim::add_generate_command(app, context),
+      sim::add_compare_command(app, context),
+      sim::add_scene_doc_command(app, context),
+      sim::add_reach_command(app, context),
+      sim::add_reach_doc_command(app, context),
+      sim::add_reach_bench_command(app, context),
+      sim::add_forecast_command(app, context),
+      sim::add_forecast_doc_command(app, context),
+      sim::add_forecast_bench_command(app, context),
   };
   if (const auto stop = common::parse_command_line(app, argc, argv)) return *stop;
   // What each command allocates, for an out-of-memory message that says how to make it smaller.

@@ -11,7 +11,7 @@
 #include "sph/app/solver_comparison.h"
 #include "sph/scene/scene_loader.h"
 
-namespace sph {
+namespace sim {
 
 namespace {
 
@@ -29,7 +29,7 @@ nlohmann::json bench_compare(const BenchCommandOptions& o, int threads) {
   if (!o.radii.empty())
     throw common::InputError(
         "--compare takes the scene's radius; change it with --set /particle_radius=R");
-  SolverComparison comparison;
+  sph::SolverComparison comparison;
   comparison.scene_file = o.scene_file;
   comparison.overrides = o.overrides;
   comparison.solvers = o.compare_solvers;
@@ -37,8 +37,8 @@ nlohmann::json bench_compare(const BenchCommandOptions& o, int threads) {
   comparison.threads = threads;
   nlohmann::json out = {{"benchmark", "spill-sim bench --compare"},
                         {"scene_file", o.scene_file},
-                        {"machine", machine_description(threads)}};
-  out.update(compare_solvers(comparison, &std::cerr));
+                        {"machine", sph::machine_description(threads)}};
+  out.update(sph::compare_solvers(comparison, &std::cerr));
   return out;
 }
 
@@ -50,12 +50,12 @@ nlohmann::json bench_radii(const BenchCommandOptions& o, int threads) {
   for (double r : radii) {
     std::vector<std::string> overrides = o.overrides;
     if (r > 0) overrides.push_back("/particle_radius=" + std::to_string(r));
-    const LoadedScene scene = load_scene(o.scene_file, overrides);
-    results.push_back(benchmark_scene(scene, threads, &std::cerr));
+    const sph::LoadedScene scene = sph::load_scene(o.scene_file, overrides);
+    results.push_back(sph::benchmark_scene(scene, threads, &std::cerr));
   }
   return {{"benchmark", "spill-sim bench"},
           {"scene_file", o.scene_file},
-          {"machine", machine_description(threads)},
+          {"machine", sph::machine_description(threads)},
           {"results", results}};
 }
 
@@ -86,4 +86,4 @@ Command add_bench_command(CLI::App& app, const CommandContext&) {
           }};
 }
 
-}  // namespace sph
+}  // namespace sim

@@ -4,13 +4,13 @@
 
 #include "sph/core/floating_point.h"
 
-namespace sph {
+namespace sim {
 
 int use_threads(int requested) {
   const int n = requested > 0 ? requested : omp_get_num_procs();
   omp_set_num_threads(n);
-  flush_subnormals_to_zero();
+  sph::flush_subnormals_to_zero();
   return n;
 }
 
-}  // namespace sph
+}  // namespace sim

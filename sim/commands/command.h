@@ -6,7 +6,7 @@
 #include <atomic>
 #include <functional>
 
-namespace sph {
+namespace sim {
 
 // What a subcommand may use of the process: the stop flag that Ctrl-C and SIGTERM set once
 // catch_stop_signals() was called (a run then removes its staging folder and exits 130).
@@ -38,4 +38,4 @@ Command add_forecast_bench_command(CLI::App& app, const CommandContext& context)
 // as every simulation runs; returns the count.
 int use_threads(int requested);
 
-}  // namespace sph
+}  // namespace sim

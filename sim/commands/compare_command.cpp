@@ -14,11 +14,11 @@
 #include "sim/commands/command.h"
 #include "sph/app/solver_table.h"
 
-namespace sph {
+namespace sim {
 
 namespace {
 struct CompareCommandOptions {
-  SolverTableRequest table;
+  sph::SolverTableRequest table;
   std::string solvers, frames;  // comma-separated, split by common::split_list
   std::string out_dir;
   int threads = 0;
@@ -52,7 +52,7 @@ Command add_compare_command(CLI::App& app, const CommandContext& context) {
       "scene or option, a refused --out); 130 when interrupted (nothing is written).");
   return {c, [o, context] {
             context.catch_stop_signals();
-            SolverTableRequest table = o->table;
+            sph::SolverTableRequest table = o->table;
             table.solvers = common::split_list(o->solvers, "--solvers");
             table.frames = common::split_int_list(o->frames, "--frames");
             table.out_dir = o->out_dir;
@@ -60,7 +60,7 @@ Command add_compare_command(CLI::App& app, const CommandContext& context) {
             table.stop = context.stop;
             table.log = &std::cerr;
             table.terminal = isatty(STDERR_FILENO) != 0;
-            const nlohmann::json written = write_solver_table(table);
+            const nlohmann::json written = sph::write_solver_table(table);
             int failed = 0;
             for (const auto& row : written["rows"]) failed += row["status"] != "ok";
             std::cout << "wrote " << o->out_dir << ": " << written["rows"].size() << " solvers"
@@ -71,4 +71,4 @@ Command add_compare_command(CLI::App& app, const CommandContext& context) {
           }};
 }
 
-}  // namespace sph
+}  // namespace sim

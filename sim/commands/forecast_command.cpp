@@ -22,7 +22,7 @@
 #include "sph/app/scene_runner.h"
 #include "sph/io/animation.h"
 
-namespace sph {
+namespace sim {
 
 namespace {
 struct ForecastCommandOptions {
@@ -67,7 +67,7 @@ Command add_forecast_command(CLI::App& app, const CommandContext& context) {
               // The far field's own input first, so that a bad key is said before the near
               // field's minutes of SPH, not after.
               farfield::build_forecast(config, run.config_file);
-              const NearFieldHandover near = run_near_field_handover(
+              const sph::NearFieldHandover near = sph::run_near_field_handover(
                   config.near_field->scene, config.near_field->set,
                   {config.flow.reach_run, run.config_file, "/near_field/scene"}, run.stop, run.log,
                   run.terminal);
@@ -75,7 +75,7 @@ Command add_forecast_command(CLI::App& app, const CommandContext& context) {
               run.handover_summary = near.summary;
             }
             const nlohmann::json summary = farfield::run_forecast(run);
-            if (run.pictures) encode_animation(run.out_dir, "map", 0, 4, &std::cerr);
+            if (run.pictures) sph::encode_animation(run.out_dir, "map", 0, 4, &std::cerr);
             // A Ctrl-C while ffmpeg ran stopped it (its partial video removed): the folder is
             // whole but for the video, and the exit says it was interrupted.
             if (run.stop && run.stop->load())
@@ -118,11 +118,11 @@ Command add_forecast_bench_command(CLI::App& app, const CommandContext&) {
             const int used = use_threads(*threads);
             const nlohmann::json out = {
                 {"benchmark", "far field (farfield/far_field_benchmark.h)"},
-                {"machine", machine_description(used)},
+                {"machine", sph::machine_description(used)},
                 {"rows", farfield::benchmark_far_field(*elements, *hours, *step)}};
             std::cout << out.dump(2) << "\n";
             return 0;
           }};
 }
 
-}  // namespace sph
+}  // namespace sim

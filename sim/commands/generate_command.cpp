@@ -15,20 +15,20 @@
 #include "sph/generation/dataset_folder.h"
 #include "sph/generation/generation_command_line.h"
 
-namespace sph {
+namespace sim {
 
 namespace {
 struct GenerateCommandOptions {
-  GenerateOptions generate;
+  sph::GenerateOptions generate;
   std::string out_dir, shard;
-  GenerationOptionText text;  // --vary, --split
+  sph::GenerationOptionText text;  // --vary, --split
   int threads = 1;
   bool assemble = false;
 };
 
 // --shard, else the Slurm array task this process is, else the whole request.
-GenerationShard shard_of(const std::string& option) {
-  if (!option.empty()) return parse_shard(option);
+sph::GenerationShard shard_of(const std::string& option) {
+  if (!option.empty()) return sph::parse_shard(option);
   const char* id = std::getenv("SLURM_ARRAY_TASK_ID");
   const char* count = std::getenv("SLURM_ARRAY_TASK_COUNT");
   if (!id || !count) return {};
@@ -53,13 +53,13 @@ GenerationShard shard_of(const std::string& option) {
 
 Command add_generate_command(CLI::App& app, const CommandContext& context) {
   auto o = std::make_shared<GenerateCommandOptions>();
-  GenerateOptions& g = o->generate;
+  sph::GenerateOptions& g = o->generate;
   auto* c = app.add_subcommand(
       "generate", "Simulate N trajectories with drawn parameters into train/valid/test.h5");
   auto* scene = c->add_option("--scene", g.scene_file, "Scene JSON file");
   c->add_option("--out", o->out_dir, "Dataset folder (resumed if it holds a partial run)")
       ->required();
-  CLI::Option* trajectories = add_generation_options(*c, g, o->text).front();
+  CLI::Option* trajectories = sph::add_generation_options(*c, g, o->text).front();
   c->add_option("--set", g.overrides, "Override a scene value: /json/pointer=value");
   c->add_option("--threads", o->threads,
                 "OpenMP threads (1, the default, makes datasets bit-reproducible)")
@@ -75,17 +75,18 @@ Command add_generate_command(CLI::App& app, const CommandContext& context) {
   return {c, [o, context] {
             context.catch_stop_signals();
             const std::filesystem::path out_dir = common::normalise_output_path(o->out_dir);
-            GenerateOptions options;
+            sph::GenerateOptions options;
             if (o->assemble) {
-              options = stored_generation(out_dir);
+              options = sph::stored_generation(out_dir);
             } else {
               if (o->generate.scene_file.empty() || o->generate.trajectories < 1)
                 throw common::InputError(
                     "generate: --scene and --trajectories are required (or --assemble)");
               options = o->generate;
               options.out_dir = out_dir;
-              for (const auto& v : o->text.vary) options.vary.push_back(parse_parameter_range(v));
-              options.split = parse_split(o->text.split);
+              for (const auto& v : o->text.vary)
+                options.vary.push_back(sph::parse_parameter_range(v));
+              options.split = sph::parse_split(o->text.split);
               options.shard = shard_of(o->shard);
             }
             if (o->assemble)
@@ -94,7 +95,7 @@ Command add_generate_command(CLI::App& app, const CommandContext& context) {
               options.threads = use_threads(o->threads);
             options.stop = context.stop;
             options.log = &std::cerr;
-            const GenerationResult result = generate_dataset(options);
+            const sph::GenerationResult result = sph::generate_dataset(options);
             if (result.metadata.is_null()) {
               std::cout << "shard " << options.shard.index << "/" << options.shard.count
                         << ": simulated " << result.simulated << " trajectories into " << o->out_dir
@@ -110,4 +111,4 @@ Command add_generate_command(CLI::App& app, const CommandContext& context) {
           }};
 }
 
-}  // namespace sph
+}  // namespace sim

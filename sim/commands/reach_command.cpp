@@ -15,7 +15,7 @@
 #include "sim/commands/command.h"
 #include "sph/app/scene_runner.h"
 
-namespace sph {
+namespace sim {
 
 namespace {
 struct ReachCommandOptions {
@@ -76,7 +76,7 @@ Command add_reach_bench_command(CLI::App& app, const CommandContext&) {
             const int used = use_threads(*threads);
             const nlohmann::json out = {
                 {"benchmark", "reach shallow water (reach/reach_benchmark.h)"},
-                {"machine", machine_description(used)},
+                {"machine", sph::machine_description(used)},
                 {"rows", reach::benchmark_reach(*cells, *steps, 20)}};
             std::cout << out.dump(2) << "\n";
             return 0;
@@ -93,4 +93,4 @@ Command add_reach_doc_command(CLI::App& app, const CommandContext&) {
           }};
 }
 
-}  // namespace sph
+}  // namespace sim

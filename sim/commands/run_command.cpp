@@ -11,14 +11,14 @@
 #include "sph/app/scene_runner.h"
 #include "sph/scene/scene_loader.h"
 
-namespace sph {
+namespace sim {
 
 namespace {
 struct RunCommandOptions {
   std::string scene_file, out_dir;
   std::vector<std::string> overrides;
   int threads = 0;
-  RunOptions run;
+  sph::RunOptions run;
 };
 }  // namespace
 
@@ -44,14 +44,14 @@ Command add_run_command(CLI::App& app, const CommandContext& context) {
       ->check(common::non_negative());
   return {c, [o, context] {
             context.catch_stop_signals();
-            const LoadedScene scene = load_scene(o->scene_file, o->overrides);
-            RunOptions options = o->run;
+            const sph::LoadedScene scene = sph::load_scene(o->scene_file, o->overrides);
+            sph::RunOptions options = o->run;
             options.out_dir = o->out_dir;
             options.threads = use_threads(o->threads);
             options.stop = context.stop;
             options.log = &std::cerr;
             options.terminal = isatty(STDERR_FILENO) != 0;
-            const nlohmann::json summary = run_scene(scene, options);
+            const nlohmann::json summary = sph::run_scene(scene, options);
             std::cout << "wrote " << o->out_dir << ": " << summary["steps"] << " steps, "
                       << summary["fluid_particles"] << " fluid particles, "
                       << summary["particle_steps_per_s"].get<double>() << " particle-steps/s\n";
@@ -59,4 +59,4 @@ Command add_run_command(CLI::App& app, const CommandContext& context) {
           }};
 }
 
-}  // namespace sph
+}  // namespace sim

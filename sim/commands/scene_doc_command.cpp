@@ -5,14 +5,14 @@
 #include "sim/commands/command.h"
 #include "sph/scene/scene_loader.h"
 
-namespace sph {
+namespace sim {
 
 Command add_scene_doc_command(CLI::App& app, const CommandContext&) {
   auto* c = app.add_subcommand("scene-doc", "Print the scene parameter reference (Markdown)");
   return {c, [] {
-            std::cout << scene_reference_markdown();
+            std::cout << sph::scene_reference_markdown();
             return 0;
           }};
 }
 
-}  // namespace sph
+}  // namespace sim

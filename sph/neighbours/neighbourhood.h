@@ -41,7 +41,8 @@ class ParticleNeighbourhood {
                         const BoundaryParticles& boundary);
 
   // Searches the neighbours of the active fluid particles, evaluates the kernel for every pair
-  // and sets fluid.density = sum_j V_j W_ij / (including the particle itself and the boundary).
+  // and sets fluid.density to sum_j V_j W_ij over the particle itself and its fluid and boundary
+  // neighbours: the density relative to the rest density (1 in a filled neighbourhood at rest).
   // Throws PointOutsideDomain with the index of the first particle outside the domain.
   void update(FluidParticles& fluid, const BoundaryParticles& boundary);
 
