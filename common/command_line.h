@@ -14,18 +14,11 @@
 #include <vector>
 
 #include "common/exit_codes.h"
+#include "common/number_text.h"
 
 namespace common {
 
 namespace detail {
-
-// A number's bound as a person writes it: "0", "1", "0.5" (CLI11's own checks print the largest
-// double, 309 digits, as the upper bound).
-inline std::string written(double value) {
-  std::ostringstream s;
-  s << value;
-  return s.str();
-}
 
 // The whole of `text` as a number (std::stod) or a whole number (std::stol); nothing when it is
 // not one ("abc", "2x", "", out of the type's range).
@@ -49,10 +42,11 @@ inline std::optional<long> parse_whole_number(const std::string& text) {
 }
 
 // Checks that `input` is a number above (or, with `inclusive`, at least) `bound`; "" when it is,
-// else what a person reads. A word is "not a number", not "out of range".
+// else what a person reads. A word is "not a number", not "out of range", and the bound reads
+// "0" or "0.5" (CLI11's own checks print the largest double, 309 digits, as the upper bound).
 inline CLI::Validator number_from(double bound, bool inclusive) {
   const std::string wanted =
-      (inclusive ? "a number of at least " : "a number above ") + written(bound);
+      (inclusive ? "a number of at least " : "a number above ") + number_text(bound);
   return CLI::Validator(
       [bound, inclusive, wanted](std::string& input) -> std::string {
         const std::optional<double> value = parse_number(input);
@@ -61,7 +55,7 @@ inline CLI::Validator number_from(double bound, bool inclusive) {
           return "expected " + wanted + ", got " + input;
         return "";
       },
-      inclusive ? ">= " + written(bound) : "> " + written(bound));
+      inclusive ? ">= " + number_text(bound) : "> " + number_text(bound));
 }
 
 }  // namespace detail

@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "common/config_error.h"
+#include "common/number_text.h"
 #include "common/param_spec.h"
 
 namespace common {
@@ -56,11 +57,6 @@ inline std::string json_type_name(const nlohmann::json& j) {
   return std::string("a ") + j.type_name();
 }
 
-inline std::string format_number(double v) {
-  std::ostringstream s;
-  s << v;
-  return s.str();
-}
 }  // namespace detail
 
 // The shortest decimal that reads back as the same float, so 0.005f is written as 0.005 and
@@ -123,11 +119,9 @@ class JsonReader {
     if (!std::isfinite(v)) fail(ptr, "expected a finite number");
     const bool below = s.min_exclusive ? !(v > s.min) : !(v >= s.min);
     if (below)
-      fail(ptr, std::string("expected ") + (s.min_exclusive ? "> " : ">= ") +
-                    detail::format_number(s.min) + ", got " + detail::format_number(v));
-    if (v > s.max)
-      fail(ptr,
-           "expected <= " + detail::format_number(s.max) + ", got " + detail::format_number(v));
+      fail(ptr, std::string("expected ") + (s.min_exclusive ? "> " : ">= ") + number_text(s.min) +
+                    ", got " + number_text(v));
+    if (v > s.max) fail(ptr, "expected <= " + number_text(s.max) + ", got " + number_text(v));
   }
 
   void read(const nlohmann::json& j, const std::string& ptr, double& v, const ParamSpec& s) const {
@@ -313,8 +307,8 @@ class DocTable {
       for (const auto& c : s.choices) r += (r.empty() ? "" : ", ") + c;
       return r;
     }
-    if (std::isfinite(s.min)) r += (s.min_exclusive ? "> " : ">= ") + detail::format_number(s.min);
-    if (std::isfinite(s.max)) r += (r.empty() ? "" : ", ") + ("<= " + detail::format_number(s.max));
+    if (std::isfinite(s.min)) r += (s.min_exclusive ? "> " : ">= ") + number_text(s.min);
+    if (std::isfinite(s.max)) r += (r.empty() ? "" : ", ") + ("<= " + number_text(s.max));
     return r;
   }
 

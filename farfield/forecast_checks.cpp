@@ -2,21 +2,13 @@
 
 #include <algorithm>
 #include <cmath>
-#include <sstream>
 
 #include "common/config_error.h"
+#include "common/number_text.h"
 
 namespace farfield {
 
-namespace {
-
-std::string number(double v) {
-  std::ostringstream s;
-  s << v;
-  return s.str();
-}
-
-}  // namespace
+namespace {}  // namespace
 
 void check_water_temperature(const reach::Hydrograph& celsius, const std::string& file,
                              const std::string& pointer) {
@@ -25,10 +17,12 @@ void check_water_temperature(const reach::Hydrograph& celsius, const std::string
     const bool kelvin = c >= 273.15 + kColdestWaterC && c <= 273.15 + kWarmestWaterC;
     throw common::ConfigError(
         file, pointer,
-        number(c) + " at " + number(t) + " s is not a river's water temperature in degrees " +
-            "Celsius (" + number(kColdestWaterC) + " to " + number(kWarmestWaterC) + ")" +
-            (kelvin ? ": it reads as kelvin, " + number(c) + " K is " + number(c - 273.15) +
-                          " degrees Celsius"
+        common::number_text(c) + " at " + common::number_text(t) +
+            " s is not a river's water temperature in degrees " + "Celsius (" +
+            common::number_text(kColdestWaterC) + " to " + common::number_text(kWarmestWaterC) +
+            ")" +
+            (kelvin ? ": it reads as kelvin, " + common::number_text(c) + " K is " +
+                          common::number_text(c - 273.15) + " degrees Celsius"
                     : std::string()));
   }
 }
@@ -40,10 +34,11 @@ void check_centreline_on_water(const Centreline& line, const ForecastConfig& c,
     const double x = c.centreline[k][0], y = c.centreline[k][1];
     if (flow.sample(x, y, 0).where == FlowWhere::outside)
       throw common::ConfigError(file, "/centreline/" + std::to_string(k),
-                                "(" + number(x) + ", " + number(y) +
-                                    ") lies outside the reach's grid (" + number(g.x0) + ", " +
-                                    number(g.y0) + " to " + number(g.x0 + g.nx * g.dx) + ", " +
-                                    number(g.y0 + g.ny * g.dy) + ")");
+                                "(" + common::number_text(x) + ", " + common::number_text(y) +
+                                    ") lies outside the reach's grid (" +
+                                    common::number_text(g.x0) + ", " + common::number_text(g.y0) +
+                                    " to " + common::number_text(g.x0 + g.nx * g.dx) + ", " +
+                                    common::number_text(g.y0 + g.ny * g.dy) + ")");
   }
   // Points every cell along the line: at least half must be on water (a line drawn on a map
   // may cut a bend's bank, but not run beside the river).
@@ -56,11 +51,12 @@ void check_centreline_on_water(const Centreline& line, const ForecastConfig& c,
     wet += flow.sample(x, y, 0).where == FlowWhere::water;
   }
   if (2 * wet < points)
-    throw common::ConfigError(file, "/centreline",
-                              "only " + number(std::round(100.0 * double(wet) / double(points))) +
-                                  " % of its " + number(line.length()) +
-                                  " m lies on the reach's water at the start: the leading edge "
-                                  "and the banks are measured along it; draw it down the river");
+    throw common::ConfigError(
+        file, "/centreline",
+        "only " + common::number_text(std::round(100.0 * double(wet) / double(points))) +
+            " % of its " + common::number_text(line.length()) +
+            " m lies on the reach's water at the start: the leading edge "
+            "and the banks are measured along it; draw it down the river");
 }
 
 void check_forecast_size(const ForecastConfig& c, const ReachFlow& flow, const Centreline& line,
@@ -81,12 +77,14 @@ void check_forecast_size(const ForecastConfig& c, const ReachFlow& flow, const C
                                               : "/end_time";
     throw common::ConfigError(
         file, key,
-        "the forecast would take " + number(steps) + " steps of " + number(c.time_step) +
-            " s to /end_time = " + number(c.end_time) + " s, each of " + number(substeps) +
-            " drift sub-steps (" + number(speed) + " m/s over " + number(flow.resolution()) +
-            " m cells at /drift/max_cells_per_substep = " + number(c.drift.max_cells_per_substep) +
-            "): " + number(steps * substeps) + " in all, above /max_steps = " +
-            number(c.max_steps) + ": check this value, or raise /max_steps to run it");
+        "the forecast would take " + common::number_text(steps) + " steps of " +
+            common::number_text(c.time_step) + " s to /end_time = " +
+            common::number_text(c.end_time) + " s, each of " + common::number_text(substeps) +
+            " drift sub-steps (" + common::number_text(speed) + " m/s over " +
+            common::number_text(flow.resolution()) + " m cells at /drift/max_cells_per_substep = " +
+            common::number_text(c.drift.max_cells_per_substep) +
+            "): " + common::number_text(steps * substeps) + " in all, above /max_steps = " +
+            common::number_text(c.max_steps) + ": check this value, or raise /max_steps to run it");
   }
   // Memory: the elements (the releases'; a near field's parcels come later) and a snapshot of
   // each at every output.
@@ -97,17 +95,19 @@ void check_forecast_size(const ForecastConfig& c, const ReachFlow& flow, const C
   if (element_bytes > memory_bytes)
     throw common::ConfigError(
         file, "/releases",
-        number(elements) + " elements with their snapshots at " + number(outputs) +
-            " outputs need at least " + number(element_bytes / 1e9) + " GB, this process may use " +
-            number(memory_bytes / 1e9) + " GB: fewer elements, or outputs less often");
+        common::number_text(elements) + " elements with their snapshots at " +
+            common::number_text(outputs) + " outputs need at least " +
+            common::number_text(element_bytes / 1e9) + " GB, this process may use " +
+            common::number_text(memory_bytes / 1e9) + " GB: fewer elements, or outputs less often");
   // The bank bins, each with its holdings at every output.
   const double bins = std::ceil(line.length() / c.banks.bin_length) + 1;
   const double bin_bytes = bins * 2 * (64 + outputs * 16);
   if (bins > 1e8 || bin_bytes > memory_bytes)
     throw common::ConfigError(file, "/banks/bin_length",
-                              number(bins) + " bins of " + number(c.banks.bin_length) +
-                                  " m along the " + number(line.length()) + " m centreline need " +
-                                  number(bin_bytes / 1e9) +
+                              common::number_text(bins) + " bins of " +
+                                  common::number_text(c.banks.bin_length) + " m along the " +
+                                  common::number_text(line.length()) + " m centreline need " +
+                                  common::number_text(bin_bytes / 1e9) +
                                   " GB (and at most 1e8 bins are counted): use longer bins");
 }
 

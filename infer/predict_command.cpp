@@ -8,6 +8,7 @@
 #include "common/checked_file.h"
 #include "common/config_error.h"
 #include "common/exit_codes.h"
+#include "common/number_text.h"
 #include "common/output_folder.h"
 #include "common/progress.h"
 #include "common/stop_signals.h"
@@ -33,12 +34,6 @@ namespace fs = std::filesystem;
 
 namespace {
 
-std::string text(double v) {
-  std::ostringstream s;
-  s << v;
-  return s.str();
-}
-
 // A model runs only on scenes like its data: the same frame interval, particle size and graph
 // radius (its features are in those units), and fluid phases it has seen.
 void check_scene_fits(const nlohmann::json& data, const sph::LoadedScene& scene,
@@ -48,8 +43,9 @@ void check_scene_fits(const nlohmann::json& data, const sph::LoadedScene& scene,
                                  double given) {
     if (std::abs(trained - given) > 1e-6 * std::abs(trained))
       throw common::ConfigError(scene.file, pointer,
-                                std::string(what) + " is " + text(given) + ", but " + checkpoint +
-                                    " was trained on data with " + text(trained) +
+                                std::string(what) + " is " + common::number_text(given) + ", but " +
+                                    checkpoint + " was trained on data with " +
+                                    common::number_text(trained) +
                                     " (set it with --set, or use a model trained for it)");
   };
   require_equal("the frame interval (s)", "/output/frame_dt", data.value("frame_dt", 0.0),
@@ -86,7 +82,7 @@ gnn::Bounds bounds_of(const sph::Aabb& domain) {
 sph::LoadedScene load_predicted_scene(const PredictOptions& o) {
   if (o.members < 1) throw common::InputError("predict: --members must be at least 1");
   std::vector<std::string> overrides = o.overrides;
-  if (o.end_time > 0) overrides.push_back("/end_time=" + text(o.end_time));
+  if (o.end_time > 0) overrides.push_back("/end_time=" + common::number_text(o.end_time));
   sph::LoadedScene scene = sph::load_scene(o.scene_file, overrides);
   if (o.members > 1 && !sph::river_spill_metrics(scene.config))
     throw common::ConfigError(scene.file, "/leaks",
@@ -112,9 +108,9 @@ int first_predicted_frame(const sph::Simulation& sim, const sph::LoadedScene& sc
   const int first = int(std::llround(sim.time() / frame_dt));
   if (first >= sph::frame_count(scene.config))
     throw common::ConfigError(initial_state, "/time",
-                              "the state is at t = " + text(sim.time()) +
+                              "the state is at t = " + common::number_text(sim.time()) +
                                   " s, at or after the scene's /end_time " +
-                                  text(scene.config.end_time) +
+                                  common::number_text(scene.config.end_time) +
                                   " s: nothing is left to predict (raise it with --end-time)");
   return first;
 }
@@ -395,7 +391,7 @@ nlohmann::json run_predict(const PredictOptions& o) {
       if (o.log)
         progress.update((member - 1) * per_member + frame - first,
                         (o.members > 1 ? "member " + std::to_string(member) + ", " : "") +
-                            "t = " + text(sim->time()) + " s");
+                            "t = " + common::number_text(sim->time()) + " s");
     }
     member_wall_s.push_back(seconds_since(member_start));
     if (ensemble) ensemble->end_member();

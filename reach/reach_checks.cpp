@@ -2,21 +2,13 @@
 
 #include <algorithm>
 #include <cmath>
-#include <sstream>
 
 #include "common/config_error.h"
+#include "common/number_text.h"
 
 namespace reach {
 
-namespace {
-
-std::string number(double v) {
-  std::ostringstream s;
-  s << v;
-  return s.str();
-}
-
-}  // namespace
+namespace {}  // namespace
 
 void check_elevations(const Raster& r, const std::string& raster_file, const std::string& file) {
   for (int j = 0; j < r.grid.ny; ++j)
@@ -24,10 +16,11 @@ void check_elevations(const Raster& r, const std::string& raster_file, const std
       const double z = r.values[r.grid.at(i, j)];
       if (std::isnan(z) || (z >= kLowestGround && z <= kHighestGround)) continue;
       throw ConfigError(file, "/terrain/file",
-                        raster_file + " has an elevation of " + number(z) + " m at (" +
-                            number(r.grid.x(i)) + ", " + number(r.grid.y(j)) +
-                            "), beyond any ground (" + number(kLowestGround) + " to " +
-                            number(kHighestGround) +
+                        raster_file + " has an elevation of " + common::number_text(z) + " m at (" +
+                            common::number_text(r.grid.x(i)) + ", " +
+                            common::number_text(r.grid.y(j)) + "), beyond any ground (" +
+                            common::number_text(kLowestGround) + " to " +
+                            common::number_text(kHighestGround) +
                             " m): mark such cells as the raster's nodata value");
     }
 }
@@ -38,7 +31,7 @@ void check_metres(const std::string& wkt, const std::string& file, const std::st
   if (std::abs(unit.metres - 1) <= 1e-9) return;
   throw ConfigError(file, pointer,
                     what + " is in " + (unit.name.empty() ? "an unknown unit" : unit.name) + " (" +
-                        number(unit.metres) +
+                        common::number_text(unit.metres) +
                         " m), not metres: the grid's cells must be in metres; warp it to a "
                         "metric CRS first (gdalwarp -t_srs EPSG:...)");
 }
@@ -48,10 +41,11 @@ void check_covers(const SeriesConfig& s, const Hydrograph& h, double end_time,
   if (s.value) return;
   const double first = h.points().front().first, last = h.points().back().first;
   if (first > 0 || last < end_time)
-    throw ConfigError(file, pointer,
-                      "the series covers " + number(first) + " to " + number(last) +
-                          " s, but the run goes from 0 to /end_time = " + number(end_time) +
-                          " s: extend it (or shorten the run)");
+    throw ConfigError(
+        file, pointer,
+        "the series covers " + common::number_text(first) + " to " + common::number_text(last) +
+            " s, but the run goes from 0 to /end_time = " + common::number_text(end_time) +
+            " s: extend it (or shorten the run)");
 }
 
 void check_sections_apart(const std::vector<std::pair<Section, std::string>>& placed,
@@ -84,8 +78,10 @@ void check_terrain_size(const Raster& header, const TerrainConfig& t, double mem
     if (block.empty())
       throw ConfigError(file, "/terrain/window",
                         "no cell of " + t.file + " lies inside it (the raster spans x " +
-                            number(g.x0) + " to " + number(g.x0 + g.nx * g.dx) + ", y " +
-                            number(g.y0) + " to " + number(g.y0 + g.ny * g.dy) + ")");
+                            common::number_text(g.x0) + " to " +
+                            common::number_text(g.x0 + g.nx * g.dx) + ", y " +
+                            common::number_text(g.y0) + " to " +
+                            common::number_text(g.y0 + g.ny * g.dy) + ")");
   }
   // Read a strip of `coarsen` rows at a time into the coarse grid; run on the coarse grid.
   const double coarse = std::ceil((block.i1 - block.i0 + 1) / double(t.coarsen)) *
@@ -95,10 +91,11 @@ void check_terrain_size(const Raster& header, const TerrainConfig& t, double mem
   const double run = coarse * kBytesPerReachCell;
   if (read + run <= memory_bytes) return;
   throw ConfigError(file, t.window.empty() || read > run ? "/terrain/window" : "/terrain/coarsen",
-                    number(block.cells()) + " cells of " + t.file + " need " + number(read / 1e9) +
-                        " GB to read and " + number(run / 1e9) + " GB to run (coarsened " +
+                    common::number_text(block.cells()) + " cells of " + t.file + " need " +
+                        common::number_text(read / 1e9) + " GB to read and " +
+                        common::number_text(run / 1e9) + " GB to run (coarsened " +
                         std::to_string(t.coarsen) + " times), this process may use " +
-                        number(memory_bytes / 1e9) +
+                        common::number_text(memory_bytes / 1e9) +
                         " GB: run a smaller /terrain/window or a larger /terrain/coarsen");
 }
 
@@ -106,11 +103,11 @@ void check_carried(double peak, double width, const std::string& file, const std
   const double depth = std::cbrt(peak * peak / (width * width) / 9.81);
   if (depth <= kDeepestCriticalFlow) return;
   throw ConfigError(file, pointer,
-                    "a peak of " + number(peak) + " m^3/s over " + number(width) + " m would run " +
-                        number(depth) +
+                    "a peak of " + common::number_text(peak) + " m^3/s over " +
+                        common::number_text(width) + " m would run " + common::number_text(depth) +
                         " m deep at critical flow, deeper than "
                         "any river (" +
-                        number(kDeepestCriticalFlow) + " m): check the units");
+                        common::number_text(kDeepestCriticalFlow) + " m): check the units");
 }
 
 double check_run_length(const ReachConfig& c, const ReachModel& m, const std::string& file) {
@@ -118,9 +115,9 @@ double check_run_length(const ReachConfig& c, const ReachModel& m, const std::st
   const double frames = c.end_time / c.output_every;
   if (frames > kMaxReachFrames)
     throw ConfigError(file, "/output_every",
-                      "the run would write " + number(frames) + " frames (end_time / " +
-                          "output_every), above " + number(kMaxReachFrames) +
-                          ": write them less often");
+                      "the run would write " + common::number_text(frames) +
+                          " frames (end_time / " + "output_every), above " +
+                          common::number_text(kMaxReachFrames) + ": write them less often");
   const double cfl_step = m.wave_speed > 0 ? c.cfl * std::min(g.dx, g.dy) / m.wave_speed : c.max_dt;
   const double step = std::min(c.max_dt, cfl_step);
   const double steps = std::ceil(c.end_time / step);
@@ -128,10 +125,11 @@ double check_run_length(const ReachConfig& c, const ReachModel& m, const std::st
   const std::string key = step == c.max_dt ? "/max_dt" : c.cfl < 0.05 ? "/cfl" : m.wave_speed_key;
   throw ConfigError(
       file, key,
-      "the run would take at least " + number(steps) + " steps of at most " + number(step) +
-          " s to reach /end_time = " + number(c.end_time) + " s (waves of " + number(m.wave_speed) +
-          " m/s from " + m.wave_speed_key + " on " + number(std::min(g.dx, g.dy)) +
-          " m cells at /cfl = " + number(c.cfl) + "), above /max_steps = " + number(c.max_steps) +
+      "the run would take at least " + common::number_text(steps) + " steps of at most " +
+          common::number_text(step) + " s to reach /end_time = " + common::number_text(c.end_time) +
+          " s (waves of " + common::number_text(m.wave_speed) + " m/s from " + m.wave_speed_key +
+          " on " + common::number_text(std::min(g.dx, g.dy)) + " m cells at /cfl = " +
+          common::number_text(c.cfl) + "), above /max_steps = " + common::number_text(c.max_steps) +
           ": check this value, or raise /max_steps to run it");
 }
 

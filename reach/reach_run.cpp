@@ -8,10 +8,10 @@
 #include <cstdio>
 #include <filesystem>
 #include <limits>
-#include <sstream>
 
 #include "common/checked_file.h"
 #include "common/memory_limit.h"
+#include "common/number_text.h"
 #include "common/output_folder.h"
 #include "common/progress.h"
 #include "reach/channel_carving.h"
@@ -78,12 +78,6 @@ std::vector<char> closed_cells(const Raster& r) {
   std::vector<char> closed(r.grid.cells());
   for (size_t c = 0; c < closed.size(); ++c) closed[c] = std::isnan(r.values[c]);
   return closed;
-}
-
-std::string number(double v) {
-  std::ostringstream s;
-  s << v;
-  return s.str();
 }
 
 // "t0000600s", or with `decimals` places ("t0000000.25s").
@@ -160,10 +154,11 @@ Field read_manning(const ReachConfig& c, const Grid& grid, const std::string& fi
       if (std::isnan(manning[k])) manning[k] = c.terrain.manning;
       if (!(manning[k] >= 0 && manning[k] <= kMaxManning))
         throw ConfigError(file, "/terrain/manning_file",
-                          c.terrain.manning_file + " has a Manning's n of " + number(manning[k]) +
-                              " at (" + number(grid.x(int(k) % grid.nx)) + ", " +
-                              number(grid.y(int(k) / grid.nx)) + "), beyond 0 to " +
-                              number(kMaxManning));
+                          c.terrain.manning_file + " has a Manning's n of " +
+                              common::number_text(manning[k]) + " at (" +
+                              common::number_text(grid.x(int(k) % grid.nx)) + ", " +
+                              common::number_text(grid.y(int(k) / grid.nx)) + "), beyond 0 to " +
+                              common::number_text(kMaxManning));
     }
   } else {
     manning = {c.terrain.manning};
@@ -299,8 +294,8 @@ nlohmann::json run_reach(const ReachRunOptions& o) {
   // Progress in thousandths of the simulated time (a run shorter than a second still moves).
   constexpr long kProgressUnits = 1000;
   common::ProgressReporter progress(log, o.terminal, kProgressUnits, "reach " + config.name);
-  log << "reach " << config.name << ": at least " << number(least_steps) << " steps to "
-      << number(config.end_time) << " s\n";
+  log << "reach " << config.name << ": at least " << common::number_text(least_steps)
+      << " steps to " << common::number_text(config.end_time) << " s\n";
   recorder.after_step();
   recorder.write_frame();
   long steps = 0;
@@ -316,9 +311,10 @@ nlohmann::json run_reach(const ReachRunOptions& o) {
       solver.step(dt);
       if (++steps > config.max_steps)
         throw ConfigError(o.config_file, "/max_steps",
-                          "the run passed " + number(config.max_steps) +
-                              " steps at t = " + number(solver.time()) + " of " +
-                              number(config.end_time) + " s (its step had fallen to " + number(dt) +
+                          "the run passed " + common::number_text(config.max_steps) +
+                              " steps at t = " + common::number_text(solver.time()) + " of " +
+                              common::number_text(config.end_time) + " s (its step had fallen to " +
+                              common::number_text(dt) +
                               " s): check the inflows and the terrain, or raise /max_steps");
       if (target - solver.time() < 1e-9 * target) solver.set_time(target);
       recorder.after_step();

@@ -3,8 +3,8 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <sstream>
 
+#include "common/number_text.h"
 #include "sph/boundary/emitter.h"
 #include "sph/core/config.h"
 #include "sph/river/leak.h"
@@ -14,12 +14,6 @@
 namespace sph {
 
 namespace {
-
-std::string number(double v) {
-  std::ostringstream s;
-  s << v;
-  return s.str();
-}
 
 // Explicit viscosity is stable for dt <= 0.125 d^2 / nu (Simulation limits its steps so); a bound
 // below dt_min would silently override dt_min, so it is refused, naming the viscosity at fault.
@@ -43,13 +37,14 @@ void check_viscous_time_step(const SceneConfig& s, const std::string& file) {
   if (limit < double(s.time_step.dt_min))
     throw ConfigError(
         file, key,
-        "explicit viscosity needs steps of at most 0.125 d^2 / nu = " + number(limit) +
-            " s, below /time_step/dt_min (" + number(s.time_step.dt_min) +
+        "explicit viscosity needs steps of at most 0.125 d^2 / nu = " + common::number_text(limit) +
+            " s, below /time_step/dt_min (" + common::number_text(s.time_step.dt_min) +
             " s): lower the viscosity, or dt_min, or use larger particles");
 }
 
 std::string format_point(const Vec3& p) {
-  return "(" + number(p[0]) + ", " + number(p[1]) + ", " + number(p[2]) + ")";
+  return "(" + common::number_text(p[0]) + ", " + common::number_text(p[1]) + ", " +
+         common::number_text(p[2]) + ")";
 }
 
 // Every part of the geometry must lie inside an explicit /domain: particles outside it cannot be
@@ -95,13 +90,14 @@ void check_consistency(const SceneConfig& s, const std::string& file) {
   // Frames are counted in an int and the run ends on a frame: refuse what cannot be either.
   const double frames = double(s.end_time) / double(s.output.frame_dt);
   if (frames > 1e7)
-    throw ConfigError(
-        file, "/end_time",
-        "expected at most 10,000,000 frames of /output/frame_dt, got " + number(frames));
+    throw ConfigError(file, "/end_time",
+                      "expected at most 10,000,000 frames of /output/frame_dt, got " +
+                          common::number_text(frames));
   if (std::abs(frames - std::round(frames)) > 1e-3)
     throw ConfigError(file, "/end_time",
                       "expected a whole number of frames of /output/frame_dt (" +
-                          number(s.output.frame_dt) + " s), got " + number(frames));
+                          common::number_text(s.output.frame_dt) + " s), got " +
+                          common::number_text(frames));
   check_viscous_time_step(s, file);
   if (s.flow && !s.terrain) throw ConfigError(file, "/flow", "a river flow needs a /terrain");
   if (!s.leaks.empty() && !s.terrain)
@@ -117,7 +113,7 @@ void check_consistency(const SceneConfig& s, const std::string& file) {
     for (int k = 0; k < 3; ++k)
       if (std::floor(double(s.fluid_blocks[i].max[k] - s.fluid_blocks[i].min[k]) / d + 1e-4) < 1)
         throw ConfigError(file, "/fluid_blocks/" + std::to_string(i),
-                          "thinner than one particle diameter (" + number(d) +
+                          "thinner than one particle diameter (" + common::number_text(d) +
                               " m, from /particle_radius) along axis " + std::to_string(k) +
                               ": it would hold no particle");
   // A block outside every tank falls away: it ran silently, to a result without that fluid.
