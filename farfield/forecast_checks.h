@@ -6,9 +6,9 @@
 
 #include <string>
 
-#include "farfield/model/centreline.h"
-#include "farfield/forecast_config.h"
 #include "farfield/flows/reach_flow.h"
+#include "farfield/forecast_config.h"
+#include "farfield/model/centreline.h"
 #include "reach/hydrograph.h"
 
 namespace farfield {

@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "farfield/flows/surface_flow.h"
 #include "farfield/model/banks.h"
 #include "farfield/model/centreline.h"
 #include "farfield/model/drift.h"
@@ -19,7 +20,6 @@
 #include "farfield/model/environment.h"
 #include "farfield/model/oil.h"
 #include "farfield/model/spreading.h"
-#include "farfield/flows/surface_flow.h"
 #include "farfield/model/weathering.h"
 #include "reach/hydrograph.h"
 

@@ -7,9 +7,9 @@
 #include <vector>
 
 #include "common/image_writer.h"
+#include "farfield/flows/reach_flow.h"
 #include "farfield/model/far_field_model.h"
 #include "farfield/outputs/forecast_metrics.h"
-#include "farfield/flows/reach_flow.h"
 
 namespace farfield {
 

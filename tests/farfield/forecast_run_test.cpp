@@ -19,8 +19,8 @@
 #include "common/config_error.h"
 #include "common/exit_codes.h"
 #include "common/json_file.h"
-#include "farfield/forecast_run.h"
 #include "farfield/flows/reach_flow.h"
+#include "farfield/forecast_run.h"
 #include "reach/raster.h"
 #include "reach/reach_run.h"
 
