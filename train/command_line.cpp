@@ -20,12 +20,12 @@ void add_generation_options(CLI::App& app, TrainCommandLine& c) {
   CLI::Option* scene_option = c.scene_option;
   auto* generate = app.add_option_group(
       "with --scene", "spill-sim generate's options, with the same names and meanings");
-  std::vector<CLI::Option*> scene_only =
+  const sph::GenerationOptionHandles added =
       sph::add_generation_options(*generate, scene.generate, c.generation);
-  scene_option->needs(scene_only.front());  // --trajectories
-  scene_only[2]->description(
-      "Seed of the --vary draws (the training seed is the training "
-      "config's /seed)");
+  scene_option->needs(added.trajectories);
+  added.seed->description(
+      "Seed of the --vary draws (the training seed is the training config's /seed)");
+  std::vector<CLI::Option*> scene_only = added.all();
   scene_only.push_back(generate->add_option(
       "--set-scene", scene.generate.overrides,
       "override a scene value: /json/pointer=value (spill-sim generate's --set)"));

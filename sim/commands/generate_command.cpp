@@ -59,7 +59,7 @@ Command add_generate_command(CLI::App& app, const CommandContext& context) {
   auto* scene = c->add_option("--scene", g.scene_file, "Scene JSON file");
   c->add_option("--out", o->out_dir, "Dataset folder (resumed if it holds a partial run)")
       ->required();
-  CLI::Option* trajectories = sph::add_generation_options(*c, g, o->text).front();
+  CLI::Option* trajectories = sph::add_generation_options(*c, g, o->text).trajectories;
   c->add_option("--set", g.overrides, "Override a scene value: /json/pointer=value");
   c->add_option("--threads", o->threads,
                 "OpenMP threads (1, the default, makes datasets bit-reproducible)")
