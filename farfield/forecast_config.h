@@ -12,6 +12,7 @@
 #include "common/config_error.h"
 #include "common/config_visitors.h"
 #include "common/param_spec.h"
+#include "farfield/ensemble/ensemble_config.h"
 #include "farfield/model/drift.h"
 #include "reach/reach_config.h"
 
@@ -87,6 +88,7 @@ struct EnvironmentConfig {
   SeriesConfig wind_speed;         // m/s at 10 m
   SeriesConfig wind_from;          // deg, where the wind comes from (meteorological)
   std::optional<SeriesConfig> wave_height;
+  double fetch = 500;
   bool ice = false;
   template <class V>
   void describe(V& v) {
@@ -100,6 +102,11 @@ struct EnvironmentConfig {
             param("m",
                   "Significant wave height for natural dispersion (absent: a river's short "
                   "fetch's, from the wind)"));
+    v.field("fetch", fetch,
+            param("m",
+                  "How far the wind blows over open water to raise the waves when wave_height is "
+                  "not given (a river's width, or its straight reach along the wind)")
+                .positive());
     v.field("ice", ice, param("", "The river is under ice: no wind drift and no evaporation"));
   }
 };
@@ -163,6 +170,26 @@ struct WatchPointConfig {
   }
 };
 
+// The oil: a record of the library or a file, and what the config sets over the record.
+struct OilChoice {
+  std::string name;
+  std::optional<double> max_water_content;
+  template <class V>
+  void describe(V& v) {
+    v.field("name", name,
+            param("",
+                  "An oil of the library (farfield/oils: light_crude, medium_crude, "
+                  "diluted_bitumen) or a path to an oil record JSON")
+                .require());
+    v.field("max_water_content", max_water_content,
+            param("",
+                  "Largest water fraction of its emulsion, over the record's (measured or "
+                  "estimated)")
+                .non_negative()
+                .at_most(0.95));
+  }
+};
+
 // The SPH near field whose oil the far field takes over (`spill-sim forecast` runs it first).
 struct NearFieldConfig {
   std::string scene;
@@ -186,13 +213,14 @@ struct ForecastConfig {
   std::string description;
   FlowConfig flow;
   std::vector<std::vector<double>> centreline;
-  std::string oil;
+  OilChoice oil;
   std::vector<ReleaseConfig> releases;
   std::optional<NearFieldConfig> near_field;
   EnvironmentConfig environment;
   DriftSettings drift;
   BanksConfig banks;
   std::vector<WatchPointConfig> watch_points;
+  std::optional<EnsembleConfig> ensemble;
   double end_time = 21600, time_step = 60, output_every = 1800;
   int seed = 1;
   std::string start_date = "2000-01-01T00:00:00Z";
@@ -205,9 +233,7 @@ struct ForecastConfig {
     v.field("centreline", centreline,
             param("m", "[[x, y], ...] the river's centreline, upstream to downstream").require());
     v.field("oil", oil,
-            param("",
-                  "An oil of the library (farfield/oils: light_crude, medium_crude, "
-                  "diluted_bitumen) or a path to an oil record JSON")
+            param("", "The oil: its name (\"medium_crude\") or {\"name\", \"max_water_content\"}")
                 .require());
     v.field("releases", releases,
             param("", "Where and when oil enters directly (a point or a line, a rate over time)"));
@@ -217,6 +243,10 @@ struct ForecastConfig {
     v.field("drift", drift, param("", "Surface drift and mixing"));
     v.field("banks", banks, param("", "Bank classes and stranding").require());
     v.field("watch_points", watch_points, param("", "Intakes and boom sites"));
+    v.field("ensemble", ensemble,
+            param("",
+                  "Perturbed members run beside the forecast: the probability of oiling per cell "
+                  "and bank, arrival quantiles (absent: the forecast alone)"));
     v.field("end_time", end_time, param("s", "How long to forecast").positive());
     v.field("time_step", time_step, param("s", "Time step").positive());
     v.field("output_every", output_every, param("s", "Interval of the outputs").positive());

@@ -113,6 +113,8 @@ nlohmann::json oil_json(const OilRecord& oil) {
           {"source", oil.source},
           {"file", oil.file},
           {"emulsification_onset", oil.emulsification_onset},
+          {"max_water_fraction", oil.max_water_fraction},
+          {"max_water_fraction_source", oil.max_water_source},
           {"pseudo_components", components}};
 }
 
@@ -146,13 +148,7 @@ ForecastRecorder::ForecastRecorder(fs::path dir, const ForecastSetup& setup, con
       stop_(stop),
       lon_lat_(flow.crs_wkt()) {
   if (pictures_) fs::create_directories(dir_ / "png");
-  // Fixed colour scales for the pictures: the deepest water and fastest flow at the start.
-  const reach::WaterState w = flow_.water_at(0);
-  for (size_t c = 0; c < w.h.size(); ++c)
-    if (w.h[c] > 0.01) {
-      depth_scale_ = std::max(depth_scale_, w.h[c]);
-      speed_scale_ = std::max(speed_scale_, std::hypot(w.hu[c], w.hv[c]) / w.h[c]);
-    }
+  map_colour_scales(flow_, depth_scale_, speed_scale_);
 }
 
 void ForecastRecorder::check_stop() const {
@@ -184,6 +180,18 @@ void ForecastRecorder::record(const FarFieldModel& model, const std::vector<Watc
   }
 }
 
+std::vector<double> ForecastRecorder::output_times() const {
+  std::vector<double> t;
+  for (const SlickSnapshot& s : slicks_) t.push_back(s.t_s);
+  return t;
+}
+
+std::vector<std::string> ForecastRecorder::output_clocks() const {
+  std::vector<std::string> c;
+  for (const SlickSnapshot& s : slicks_) c.push_back(s.clock);
+  return c;
+}
+
 nlohmann::json ForecastRecorder::finish(const FarFieldModel& model,
                                         const std::vector<WatchPoint>& points,
                                         const ForecastRunFacts& facts) {
@@ -193,7 +201,7 @@ nlohmann::json ForecastRecorder::finish(const FarFieldModel& model,
   check_stop();
   write_slick_geojson((dir_ / "slick.geojson").string(), slicks_, flow_.grid(), flow_.crs_wkt());
   write_shoreline_geojson((dir_ / "shoreline.geojson").string(), shores_, model.setup().centreline,
-                          model.setup().banks, flow_.crs_wkt());
+                          model.setup().banks, flow_.crs_wkt(), facts.shore_probability);
   check_stop();
   const ForecastConfig& config = setup_.config;
   NetcdfAttributes attributes;
@@ -251,6 +259,7 @@ nlohmann::json ForecastRecorder::summary(const FarFieldModel& model,
           {"released_m3", model.budget().released / oil_density},
           {"watch_points", watch},
           {"handover", handover},
+          {"ensemble", facts.ensemble},
           {"outputs", outputs_},
           {"wall_s", wall},
           {"threads", facts.threads},

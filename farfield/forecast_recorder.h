@@ -27,6 +27,8 @@ struct ForecastRunFacts {
   nlohmann::json handover_summary;  // the near field's run, null without one
   std::chrono::steady_clock::time_point wall_start;
   int threads = 1;
+  nlohmann::json ensemble;                              // forecast.json's "ensemble", null without
+  const ShoreProbability* shore_probability = nullptr;  // the ensemble's, for shoreline.geojson
 };
 
 class ForecastRecorder {
@@ -42,6 +44,10 @@ class ForecastRecorder {
   // Writes budget.csv/svg, the GeoJSON, elements.nc and forecast.json; returns the latter.
   nlohmann::json finish(const FarFieldModel& model, const std::vector<WatchPoint>& points,
                         const ForecastRunFacts& facts);
+
+  // The output times so far (s) and their UTC clocks.
+  std::vector<double> output_times() const;
+  std::vector<std::string> output_clocks() const;
 
  private:
   void check_stop() const;

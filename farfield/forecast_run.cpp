@@ -1,38 +1,20 @@
 #include "farfield/forecast_run.h"
 
 #include <chrono>
-#include <cmath>
 #include <filesystem>
 #include <iostream>
+#include <memory>
 #include <sstream>
 
 #include "common/exit_codes.h"
 #include "common/output_folder.h"
 #include "common/progress.h"
+#include "farfield/forecast_ensemble.h"
 #include "farfield/forecast_recorder.h"
 
 namespace farfield {
 
 namespace fs = std::filesystem;
-
-namespace {
-
-// The near field's oil that leaves its box before `until` joins the far field, each parcel as
-// several elements so that the mixing spreads it as a cloud; returns the volume added (m^3).
-double add_handed_over(FarFieldModel& model, const std::vector<HandoverParcel>& parcels,
-                       size_t& next, double until, int elements_per_parcel, double oil_density) {
-  double volume = 0;
-  for (; next < parcels.size() && parcels[next].t < until; ++next) {
-    const HandoverParcel& p = parcels[next];
-    for (int k = 0; k < elements_per_parcel; ++k)
-      model.add_element(p.x, p.y, p.volume / elements_per_parcel * oil_density,
-                        p.area / elements_per_parcel);
-    volume += p.volume;
-  }
-  return volume;
-}
-
-}  // namespace
 
 nlohmann::json run_forecast(const ForecastRunOptions& o) {
   ForecastRunFacts facts;
@@ -57,29 +39,45 @@ nlohmann::json run_forecast(const ForecastRunOptions& o) {
   ForecastRecorder recorder(folder.staging(), setup, flow, o.pictures, o.stop);
   FarFieldModel model(setup.model);
   std::vector<WatchPoint>& points = setup.watch_points;
-
-  const long steps = long(std::ceil(config.end_time / config.time_step - 1e-9));
-  const long every = std::max(1L, long(std::lround(config.output_every / config.time_step)));
-  const int per_parcel = config.near_field ? config.near_field->elements_per_parcel : 1;
-  common::ProgressReporter progress(o.log ? *o.log : std::cerr, o.terminal, steps, "forecast");
-  recorder.record(model, points);
-  size_t next_parcel = 0;
-  for (long k = 1; k <= steps; ++k) {
-    if (o.stop && o.stop->load()) throw common::Interrupted("forecast interrupted");
-    const double dt = std::min(config.time_step, config.end_time - model.time());
-    facts.handed_over_m3 += add_handed_over(model, o.handover, next_parcel, model.time() + dt,
-                                            per_parcel, setup.model.oil.density);
-    model.step(dt);
-    update_arrivals(model, points);
-    facts.worst_closure = std::max(facts.worst_closure, model.budget().closure_error());
-    if (k % every == 0 || k == steps) recorder.record(model, points);
-    if (o.log) {
-      std::ostringstream detail;
-      detail << model.elements().size() << " elements, t = " << std::lround(model.time()) << " s";
-      progress.update(k, detail.str());
-    }
+  // With an ensemble, the forecast is its member 0, tallied as it steps.
+  std::unique_ptr<ForecastEnsemble> ensemble;
+  if (config.ensemble) {
+    ensemble = std::make_unique<ForecastEnsemble>(setup, flow);
+    ensemble->tally().begin_member();
   }
+
+  const StepPlan plan(config);
+  common::ProgressReporter progress(o.log ? *o.log : std::cerr, o.terminal, plan.steps, "forecast");
+  facts.handed_over_m3 = step_forecast(
+      model, config, o.handover, points,
+      [&](long k) {
+        facts.worst_closure = std::max(facts.worst_closure, model.budget().closure_error());
+        if (ensemble) ensemble->tally().after_step(model);
+        if (plan.is_output(k)) {
+          recorder.record(model, points);
+          if (ensemble) ensemble->tally().at_output(model);
+        }
+        if (o.log && k > 0) {
+          std::ostringstream detail;
+          detail << model.elements().size() << " elements, t = " << std::lround(model.time())
+                 << " s";
+          progress.update(k, detail.str());
+        }
+      },
+      o.stop);
   if (o.log) progress.finish(std::to_string(model.elements().size()) + " elements");
+
+  ShoreProbability shore;
+  if (ensemble) {
+    ensemble->tally().end_member(points);
+    ensemble->run_members(o.handover, o.stop, o.log, o.terminal);
+    const std::vector<double> times = recorder.output_times();
+    const std::vector<std::string> clocks = recorder.output_clocks();
+    facts.ensemble = ensemble->summary(times, clocks);
+    shore = ensemble->shore_probability(times.back(), clocks.back());
+    facts.shore_probability = &shore;
+    ensemble->write_files(folder.staging(), times, clocks, o.pictures);
+  }
   const nlohmann::json summary = recorder.finish(model, points, facts);
   folder.commit();
   return summary;

@@ -8,6 +8,9 @@
 //   slick.geojson, shoreline.geojson   RFC 7946, WGS 84 lon/lat (geojson_output.h)
 //   elements.nc        CF-1.6 trajectory NetCDF of the elements (netcdf_output.h)
 //   png/map_NNNNN.png  a map per output time (forecast_map.h), in forecast.json's order
+// and with an `/ensemble` section, its members' probabilities (forecast_ensemble.h):
+//   probability.tif    per output time, the share of members that oiled each cell by then
+//   png/probability.png  the last of those over the reach's map
 
 #include <atomic>
 #include <nlohmann/json.hpp>
@@ -16,13 +19,9 @@
 #include <vector>
 
 #include "farfield/forecast_setup.h"
+#include "farfield/forecast_steps.h"
 
 namespace farfield {
-
-// Oil handed over from a near field: `volume` m^3 at map point (x, y) at forecast time t.
-struct HandoverParcel {
-  double t = 0, x = 0, y = 0, volume = 0, area = 0;
-};
 
 struct ForecastRunOptions {
   std::string config_file;

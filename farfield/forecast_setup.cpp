@@ -132,6 +132,7 @@ Environment build_environment(const ForecastConfig& c, const std::string& file) 
   if (e.wave_height)
     env.wave_height =
         covering_series(*e.wave_height, c.end_time, file, "/environment/wave_height", true);
+  env.fetch = e.fetch;
   env.ice = e.ice;
   return env;
 }
@@ -191,11 +192,24 @@ ForecastSetup build_forecast(const ForecastConfig& c, const std::string& file) {
     throw ConfigError(file, "/start_date",
                       "expected YYYY-MM-DDTHH:MM:SSZ, got \"" + c.start_date + "\"");
   FarFieldSetup& s = out.model;
-  s.oil = load_oil(c.oil, SPILL_OIL_LIBRARY, file, "/oil");
-  if (!(s.oil.density < 1000))
-    throw ConfigError(file, "/oil",
-                      s.oil.name + " (" + std::to_string(s.oil.density) +
-                          " kg/m^3) is not lighter than fresh water: it would not float");
+  // An oil of the forecast or of its ensemble, refused unless it floats.
+  const auto floating_oil = [&file](const std::string& name, const std::string& pointer) {
+    OilRecord oil = load_oil(name, SPILL_OIL_LIBRARY, file, pointer);
+    if (!(oil.density < 1000))
+      throw ConfigError(file, pointer,
+                        oil.name + " (" + std::to_string(oil.density) +
+                            " kg/m^3) is not lighter than fresh water: it would not float");
+    return oil;
+  };
+  s.oil = floating_oil(c.oil.name, "/oil");
+  if (c.oil.max_water_content) {
+    s.oil.max_water_fraction = *c.oil.max_water_content;
+    s.oil.max_water_source = "set in the config (/oil/max_water_content)";
+  }
+  if (c.ensemble)
+    for (size_t k = 0; k < c.ensemble->oils.size(); ++k)
+      out.ensemble_oils.push_back(
+          floating_oil(c.ensemble->oils[k], "/ensemble/oils/" + std::to_string(k)));
   const std::shared_ptr<ReachFlow> flow = load_flow(c, file);
   s.flow = flow;
   s.dry_depth = c.flow.dry_depth;
@@ -216,6 +230,9 @@ ForecastSetup build_forecast(const ForecastConfig& c, const std::string& file) {
   s.drift = c.drift;
   s.drift.seed = std::uint64_t(c.seed);
   s.releases = build_releases(c, *flow, file);
+  // A continuous release's oil of one output interval spreads as one slick: the interval a
+  // reader of the outputs sees, and no more a matter of the time step.
+  s.slick_interval = c.output_every;
   out.watch_points = build_watch_points(c, *flow, s.centreline, file);
   return out;
 }

@@ -17,7 +17,8 @@ struct ForecastSetup {
   ForecastConfig config;
   FarFieldSetup model;
   std::vector<WatchPoint> watch_points;
-  std::time_t start_epoch = 0;  // config.start_date in seconds since 1970 (UTC)
+  std::time_t start_epoch = 0;           // config.start_date in seconds since 1970 (UTC)
+  std::vector<OilRecord> ensemble_oils;  // config.ensemble's oils, loaded
 };
 
 // Throws ConfigError naming the file and key for an unknown oil, a negative rate, a release or

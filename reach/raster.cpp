@@ -156,6 +156,12 @@ Raster read_raster(const std::string& path, const RasterRead& how) {
 }
 
 void write_geotiff(const std::string& path, const Raster& r) {
+  write_geotiff_bands(path, r.grid, r.crs_wkt, {r.values}, {""});
+}
+
+void write_geotiff_bands(const std::string& path, const Grid& grid, const std::string& crs_wkt,
+                         const std::vector<Field>& bands,
+                         const std::vector<std::string>& descriptions) {
   register_drivers();
   constexpr double kNoData = -9999.0;
   GDALDriver* driver = GetGDALDriverManager()->GetDriverByName("GTiff");
@@ -163,25 +169,30 @@ void write_geotiff(const std::string& path, const Raster& r) {
   char** options = nullptr;
   options = CSLSetNameValue(options, "COMPRESS", "DEFLATE");
   options = CSLSetNameValue(options, "PREDICTOR", "3");  // floating-point predictor
-  DatasetHandle d(driver->Create(path.c_str(), r.grid.nx, r.grid.ny, 1, GDT_Float32, options));
+  DatasetHandle d(
+      driver->Create(path.c_str(), grid.nx, grid.ny, int(bands.size()), GDT_Float32, options));
   CSLDestroy(options);
   if (!d) throw std::runtime_error(path + ": GDAL cannot create it (" + CPLGetLastErrorMsg() + ")");
-  double gt[6] = {r.grid.x0, r.grid.dx, 0, r.grid.y0 + r.grid.dy * r.grid.ny, 0, -r.grid.dy};
+  double gt[6] = {grid.x0, grid.dx, 0, grid.y0 + grid.dy * grid.ny, 0, -grid.dy};
   d->SetGeoTransform(gt);
-  if (!r.crs_wkt.empty()) d->SetProjection(r.crs_wkt.c_str());
-  std::vector<float> rows(r.grid.cells());
-  for (int row = 0; row < r.grid.ny; ++row) {
-    const int j = r.grid.ny - 1 - row;
-    for (int i = 0; i < r.grid.nx; ++i) {
-      const double v = r.values[r.grid.at(i, j)];
-      rows[size_t(row) * size_t(r.grid.nx) + size_t(i)] = std::isnan(v) ? float(kNoData) : float(v);
+  if (!crs_wkt.empty()) d->SetProjection(crs_wkt.c_str());
+  std::vector<float> rows(grid.cells());
+  for (size_t k = 0; k < bands.size(); ++k) {
+    for (int row = 0; row < grid.ny; ++row) {
+      const int j = grid.ny - 1 - row;
+      for (int i = 0; i < grid.nx; ++i) {
+        const double v = bands[k][grid.at(i, j)];
+        rows[size_t(row) * size_t(grid.nx) + size_t(i)] = std::isnan(v) ? float(kNoData) : float(v);
+      }
     }
+    GDALRasterBand* band = d->GetRasterBand(int(k) + 1);
+    band->SetNoDataValue(kNoData);
+    if (k < descriptions.size() && !descriptions[k].empty())
+      band->SetDescription(descriptions[k].c_str());
+    if (band->RasterIO(GF_Write, 0, 0, grid.nx, grid.ny, rows.data(), grid.nx, grid.ny, GDT_Float32,
+                       0, 0) != CE_None)
+      throw std::runtime_error(path + ": writing failed (" + CPLGetLastErrorMsg() + ")");
   }
-  GDALRasterBand* band = d->GetRasterBand(1);
-  band->SetNoDataValue(kNoData);
-  if (band->RasterIO(GF_Write, 0, 0, r.grid.nx, r.grid.ny, rows.data(), r.grid.nx, r.grid.ny,
-                     GDT_Float32, 0, 0) != CE_None)
-    throw std::runtime_error(path + ": writing failed (" + CPLGetLastErrorMsg() + ")");
   d.reset();  // GDALClose flushes; an error there is GDAL's last message
   if (CPLGetLastErrorType() == CE_Failure)
     throw std::runtime_error(path + ": closing failed (" + CPLGetLastErrorMsg() + ")");

@@ -56,6 +56,11 @@ CellBlock cells_within(const Grid& grid, double x_min, double y_min, double x_ma
 // Writes `raster` as a single-band Float32 GeoTIFF (DEFLATE) with nodata -9999 where a value is
 // NaN, its geotransform and CRS. Throws std::runtime_error naming the file when GDAL fails.
 void write_geotiff(const std::string& path, const Raster& raster);
+// The same with one band per field of `bands` (each on `grid`), band k described by
+// `descriptions[k]` (GDAL's band description, which gdalinfo prints).
+void write_geotiff_bands(const std::string& path, const Grid& grid, const std::string& crs_wkt,
+                         const std::vector<Field>& bands,
+                         const std::vector<std::string>& descriptions);
 
 // The cells of `r` whose centres lie in [x_min, x_max] x [y_min, y_max] (map coordinates);
 // throws RasterError naming `what` when none does.

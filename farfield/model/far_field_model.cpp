@@ -20,7 +20,7 @@ double Budget::closure_error() const {
 
 FarFieldModel::FarFieldModel(FarFieldSetup setup) : setup_(std::move(setup)) {
   elements_.cuts = int(setup_.oil.components.size());
-  released_.assign(setup_.releases.size(), 0);
+  released_.assign(setup_.releases.size(), ReleaseProgress{});
   bank_held_.assign(size_t(setup_.banks.bins()), 0.0);
 }
 
@@ -28,55 +28,76 @@ double FarFieldModel::emulsion_volume(size_t e) const {
   return oil_volume(setup_.oil, elements_, e) / (1 - elements_.water_fraction[e]);
 }
 
-void FarFieldModel::born(const ReleaseSpec& r, const std::vector<double>& birth,
-                         const std::vector<double>& volume, const std::vector<double>& along) {
-  double slick_volume = 0;
-  for (double v : volume) slick_volume += v;
-  if (!(slick_volume > 0)) return;
-  const OilRecord& oil = setup_.oil;
-  slicks_.push_back(fay_slick(slick_volume, oil.density, setup_.environment.water_density));
-  const int slick = int(slicks_.size()) - 1;
-  const double min_thickness = oil.min_thickness(setup_.environment.water_temperature_c.at(time_));
-  std::vector<double> cuts(oil.components.size());
-  for (size_t k = 0; k < birth.size(); ++k) {
-    if (!(volume[k] > 0)) continue;
-    const double mass = volume[k] * oil.density;
-    for (size_t c = 0; c < cuts.size(); ++c) cuts[c] = mass * oil.components[c].mass_fraction;
-    const double share = volume[k] / slick_volume;
-    const double area = std::min(share * slicks_.back().initial_area, volume[k] / min_thickness);
-    const double x = r.x0 + along[k] * (r.x1 - r.x0), y = r.y0 + along[k] * (r.y1 - r.y0);
-    // Born at `birth`, inside this step: a negative age until the step's start catches up.
-    elements_.add(x, y, cuts, area, slick, share, time_ - birth[k]);
-  }
+namespace {
+
+// Element k of n of a release: when it is born (s) and the oil it carries (m^3). Elements are
+// born evenly over the release, each carrying the oil released in its slot of the time.
+double birth_time(const ReleaseSpec& r, int k) {
+  if (!(r.end > r.start)) return r.start;
+  return r.start + (k + 0.5) * (r.end - r.start) / r.elements;
+}
+double element_volume(const ReleaseSpec& r, int k) {
+  if (!(r.end > r.start)) return r.rate.at(r.start) / r.elements;
+  const double slot = (r.end - r.start) / r.elements;
+  return r.rate.integral(r.start + k * slot, r.start + (k + 1) * slot);
+}
+long slick_interval_of(const ReleaseSpec& r, int k, double interval) {
+  return long(std::floor((birth_time(r, k) - r.start) / interval));
+}
+
+}  // namespace
+
+void FarFieldModel::start_slick(size_t i, int k, long interval) {
+  const ReleaseSpec& r = setup_.releases[i];
+  double volume = 0;
+  for (int j = k; j < r.elements && slick_interval_of(r, j, setup_.slick_interval) == interval; ++j)
+    volume += element_volume(r, j);
+  ReleaseProgress& p = released_[i];
+  p.interval = interval;
+  p.slick_volume = volume;
+  p.slick = -1;
+  if (!(volume > 0)) return;
+  slicks_.push_back(fay_slick(volume, setup_.oil.density, setup_.environment.water_density));
+  p.slick = int(slicks_.size()) - 1;
 }
 
 void FarFieldModel::release(double t0, double t1) {
+  const OilRecord& oil = setup_.oil;
+  std::vector<double> cuts(oil.components.size());
   for (size_t i = 0; i < setup_.releases.size(); ++i) {
     const ReleaseSpec& r = setup_.releases[i];
-    const int n = r.elements;
-    std::vector<double> birth, volume, along;
-    const bool instant = !(r.end > r.start);
-    const double slot = instant ? 0.0 : (r.end - r.start) / n;
-    while (released_[i] < n) {
-      const int k = released_[i];
-      const double t = instant ? r.start : r.start + (k + 0.5) * slot;
+    ReleaseProgress& p = released_[i];
+    while (p.born < r.elements) {
+      const int k = p.born;
+      const double t = birth_time(r, k);
       if (t >= t1) break;
-      birth.push_back(std::max(t, t0));
-      volume.push_back(instant ? r.rate.at(r.start) / n
-                               : r.rate.integral(r.start + k * slot, r.start + (k + 1) * slot));
-      along.push_back(n > 1 ? (k + 0.5) / n : 0.0);
-      ++released_[i];
+      ++p.born;
+      const long interval = slick_interval_of(r, k, setup_.slick_interval);
+      if (interval != p.interval) start_slick(i, k, interval);
+      const double volume = element_volume(r, k);
+      if (!(volume > 0) || p.slick < 0) continue;
+      const double mass = volume * oil.density;
+      for (size_t c = 0; c < cuts.size(); ++c) cuts[c] = mass * oil.components[c].mass_fraction;
+      const double share = volume / p.slick_volume;
+      const double min_thickness = oil.min_thickness(setup_.environment.water_temperature_c.at(t));
+      const double area =
+          std::min(share * slicks_[size_t(p.slick)].initial_area, volume / min_thickness);
+      const double along = r.elements > 1 ? (k + 0.5) / r.elements : 0.0;
+      const double x = r.x0 + along * (r.x1 - r.x0), y = r.y0 + along * (r.y1 - r.y0);
+      // Born at t, inside this step: a negative age until the step's start catches up.
+      elements_.add(x, y, cuts, area, p.slick, share, time_ - std::max(t, t0));
     }
-    if (!birth.empty()) born(r, birth, volume, along);
   }
 }
 
-void FarFieldModel::add_element(double x, double y, double mass, double area) {
+void FarFieldModel::add_parcel(double x, double y, double mass, double area, int elements) {
   const OilRecord& oil = setup_.oil;
   std::vector<double> cuts(oil.components.size());
-  for (size_t c = 0; c < cuts.size(); ++c) cuts[c] = mass * oil.components[c].mass_fraction;
+  for (size_t c = 0; c < cuts.size(); ++c)
+    cuts[c] = mass / elements * oil.components[c].mass_fraction;
   slicks_.push_back(fay_slick(mass / oil.density, oil.density, setup_.environment.water_density));
-  elements_.add(x, y, cuts, area, int(slicks_.size()) - 1, 1.0, 0.0);
+  for (int k = 0; k < elements; ++k)
+    elements_.add(x, y, cuts, area / elements, int(slicks_.size()) - 1, 1.0 / elements, 0.0);
 }
 
 void FarFieldModel::step(double dt) {

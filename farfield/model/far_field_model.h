@@ -45,6 +45,10 @@ struct FarFieldSetup {
   DriftSettings drift;
   WeatheringSwitches weathering;
   bool spreading = true;
+  // A continuous release's oil born within one interval (s, counted from the release's start)
+  // spreads as one Fay slick, so that the slick's size (and with it the evaporation) does not
+  // depend on the time step; a release at once is one slick.
+  double slick_interval = 3600;
   Environment environment;
   std::vector<ReleaseSpec> releases;
   double dry_depth = 0.01;  // m: shallower water is shore
@@ -62,9 +66,10 @@ class FarFieldModel {
 
   // Advances by dt (s): releases, weathering, spreading, drift, stranding, refloating.
   void step(double dt);
-  // Oil handed over (from a near field): one element per call at (x, y) with `mass` kg of fresh
-  // oil and the given area, born now as a slick of its own.
-  void add_element(double x, double y, double mass, double area);
+  // A parcel of oil handed over (from a near field) at (x, y): `mass` kg of fresh oil covering
+  // `area`, born now as one slick carried by `elements` elements of equal share, so that how many
+  // carry it changes how it is mixed, not how it weathers.
+  void add_parcel(double x, double y, double mass, double area, int elements);
 
   double time() const { return time_; }
   long steps() const { return steps_; }
@@ -78,14 +83,22 @@ class FarFieldModel {
   double thickness(size_t e) const { return emulsion_volume(e) / elements_.area[e]; }
 
  private:
+  // Where a release stands: elements born so far, and the slick its current interval's oil
+  // forms (its index, interval and volume).
+  struct ReleaseProgress {
+    int born = 0;
+    long interval = -1;
+    int slick = -1;
+    double slick_volume = 0;
+  };
   void release(double t0, double t1);
-  void born(const ReleaseSpec& r, const std::vector<double>& birth,
-            const std::vector<double>& volume, const std::vector<double>& along);
+  // Starts the slick of release i's interval that element k is born in.
+  void start_slick(size_t i, int k, long interval);
 
   FarFieldSetup setup_;
   Elements elements_;
   std::vector<FaySlick> slicks_;
-  std::vector<int> released_;  // per release: elements born so far
+  std::vector<ReleaseProgress> released_;
   std::vector<double> bank_held_;
   double time_ = 0;
   long steps_ = 0;

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <filesystem>
 #include <limits>
+#include <optional>
 
 #include "common/config_error.h"
 #include "common/config_visitors.h"
@@ -69,7 +70,8 @@ struct RecordConfig {
   std::vector<ViscosityPoint> viscosity;
   double pour_point_c = 0;
   double interfacial_tension_n_m = 0;
-  double max_water_fraction = 0;
+  std::optional<double> max_water_fraction;
+  std::string product_type = "crude";
   double asphaltene_fraction = 0;
   DistillationConfig distillation;
   template <class V>
@@ -89,10 +91,14 @@ struct RecordConfig {
     v.field("interfacial_tension_n_m", interfacial_tension_n_m,
             param("N/m", "Oil-water interfacial tension").positive().require());
     v.field("max_water_fraction", max_water_fraction,
-            param("", "Largest water content of its stable or mesostable emulsion (0: none)")
+            param("",
+                  "Largest water content of its stable or mesostable emulsion as measured "
+                  "(absent: none measured, estimated by adios_db's rule)")
                 .non_negative()
-                .at_most(0.95)
-                .require());
+                .at_most(0.95));
+    v.field("product_type", product_type,
+            param("", "What the oil is: a crude or bitumen blend emulsifies, a refined product not")
+                .one_of({"crude", "bitumen blend", "refined"}));
     v.field("asphaltene_fraction", asphaltene_fraction,
             param("", "Mass fraction of asphaltenes (SARA)").non_negative().at_most(1).require());
     v.field("distillation", distillation, param("", "The distillation curve").require());
@@ -126,6 +132,17 @@ double emulsification_onset(double api, double asphaltenes) {
   const double spread = 1356.7 - 247.36 * std::log(api);
   const double mid_boiling = 532.98 - 3.1295 * api;
   return 0.5 * (b + std::clamp((483 - mid_boiling) / spread, 0.0, 0.4));
+}
+
+// adios_db's estimate of the largest water fraction of an oil's emulsion where no stable or
+// mesostable emulsion was measured (adios_db, computation/gnome_oil.py, emul_water: crudes and
+// bitumen blends take up to 90 % water, less as their dynamic viscosity at 15 deg C rises above
+// 50 mPa s, 0.9 - 0.0952 ln(mu / 0.05 Pa s); refined products none).
+double estimated_max_water_fraction(const std::string& product_type, double dynamic_pa_s) {
+  if (product_type == "refined") return 0;
+  if (dynamic_pa_s > 0.05)
+    return std::clamp(0.9 - 0.0952 * std::log(dynamic_pa_s / 0.05), 0.0, 0.9);
+  return 0.9;
 }
 
 // The cumulative mass fraction boiled by temperature T (K), linear between the curve's points,
@@ -206,7 +223,6 @@ OilRecord load_oil(const std::string& name, const std::string& library_dir,
   oil.density_temperature_c = r.density_temperature_c;
   oil.pour_point_c = r.pour_point_c;
   oil.interfacial_tension = r.interfacial_tension_n_m;
-  oil.max_water_fraction = r.max_water_fraction;
   oil.emulsification_onset = emulsification_onset(r.api, r.asphaltene_fraction);
   // Kinematic from dynamic viscosity, with the density at each temperature from PyGNOME's
   // thermal expansion (0.0008 /K, 0.0009 for API > 30).
@@ -216,6 +232,16 @@ OilRecord load_oil(const std::string& name, const std::string& library_dir,
     const double rho = r.density_kg_m3 / (1 - expansion * (r.density_temperature_c - t));
     oil.viscosity_temperature_c[k] = t;
     oil.kinematic_viscosity[k] = r.viscosity[size_t(k)].dynamic_mpa_s * 1e-3 / rho;
+  }
+  if (r.max_water_fraction) {
+    oil.max_water_fraction = *r.max_water_fraction;
+    oil.max_water_source = "measured (the record's max_water_fraction)";
+  } else {
+    oil.max_water_fraction =
+        estimated_max_water_fraction(r.product_type, oil.viscosity_at(15) * r.density_kg_m3);
+    oil.max_water_source =
+        "estimated by adios_db's rule for a " + r.product_type +
+        " with no stable emulsion measured (0.9, less above 50 mPa s at 15 deg C)";
   }
 
   // Pseudo-components: the curve read at the cut temperatures, then the residue.

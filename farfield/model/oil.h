@@ -38,6 +38,7 @@ struct OilRecord {
   double pour_point_c = 0;
   double interfacial_tension = 0;   // N/m, oil-water
   double max_water_fraction = 0;    // of a stable emulsion's volume
+  std::string max_water_source;     // measured, estimated (adios_db's rule) or set in a config
   double emulsification_onset = 0;  // evaporated fraction at which water uptake starts
   std::vector<PseudoComponent> components;
 

@@ -101,9 +101,10 @@ void write_slick_geojson(const std::string& path, const std::vector<SlickSnapsho
 
 void write_shoreline_geojson(const std::string& path, const std::vector<ShoreSnapshot>& snapshots,
                              const Centreline& centreline, const Banks& banks,
-                             const std::string& crs_wkt) {
+                             const std::string& crs_wkt, const ShoreProbability* probability) {
   OGRLayer* out = nullptr;
   Dataset ds = create_geojson(path, "stranded_shoreline", crs_wkt, wkbLineString, out);
+  add_field(path, out, "kind", OFTString);
   add_field(path, out, "t_s", OFTReal);
   add_field(path, out, "time", OFTString);
   add_field(path, out, "bank", OFTString);
@@ -111,32 +112,51 @@ void write_shoreline_geojson(const std::string& path, const std::vector<ShoreSna
   add_field(path, out, "km_to", OFTReal);
   add_field(path, out, "class", OFTString);
   add_field(path, out, "volume_m3", OFTReal);
+  if (probability) add_field(path, out, "oiling_probability", OFTReal);
+  // One bin's line at `offset` from the centreline, with the fields all lines share.
+  const auto bin_line = [&](int bin, double offset, const char* kind, double t_s,
+                            const std::string& clock) {
+    // A bin is drawn along the centreline only: the last (or one longer than the whole line,
+    // bin_length 1e9) ends where the line does, not thousands of km beyond it.
+    const double end = centreline.length();
+    const double from = std::min(banks.bin_start(bin), end);
+    const double to = std::min(banks.bin_start(bin) + banks.bin_length(), end);
+    OGRLineString line;
+    for (int k = 0; k <= 4; ++k) {
+      double x, y;
+      centreline.point_at(from + (to - from) * k / 4, offset, x, y);
+      line.addPoint(x, y);
+    }
+    auto feature = std::make_unique<OGRFeature>(out->GetLayerDefn());
+    feature->SetField("kind", kind);
+    feature->SetField("t_s", t_s);
+    feature->SetField("time", clock.c_str());
+    feature->SetField("bank", banks.side_of(bin) == BankSide::left ? "left" : "right");
+    feature->SetField("km_from", from / 1000);
+    feature->SetField("km_to", to / 1000);
+    feature->SetField("class", banks.class_of(bin).name.c_str());
+    feature->SetGeometry(&line);
+    return feature;
+  };
   for (const ShoreSnapshot& snap : snapshots)
     for (int bin = 0; bin < banks.bins(); ++bin) {
       if (!(snap.held_m3[size_t(bin)] > 0)) continue;
-      // A bin is drawn along the centreline only: the last (or one longer than the whole line,
-      // bin_length 1e9) ends where the line does, not thousands of km beyond it.
-      const double end = centreline.length();
-      const double from = std::min(banks.bin_start(bin), end);
-      const double to = std::min(banks.bin_start(bin) + banks.bin_length(), end);
-      OGRLineString line;
-      for (int k = 0; k <= 4; ++k) {
-        double x, y;
-        centreline.point_at(from + (to - from) * k / 4, snap.mean_offset[size_t(bin)], x, y);
-        line.addPoint(x, y);
-      }
-      OGRFeature feature(out->GetLayerDefn());
-      feature.SetField("t_s", snap.t_s);
-      feature.SetField("time", snap.clock.c_str());
-      feature.SetField("bank", banks.side_of(bin) == BankSide::left ? "left" : "right");
-      feature.SetField("km_from", from / 1000);
-      feature.SetField("km_to", to / 1000);
-      feature.SetField("class", banks.class_of(bin).name.c_str());
-      feature.SetField("volume_m3", snap.held_m3[size_t(bin)]);
-      feature.SetGeometry(&line);
-      if (out->CreateFeature(&feature) != OGRERR_NONE)
+      auto feature = bin_line(bin, snap.mean_offset[size_t(bin)], "stranded", snap.t_s, snap.clock);
+      feature->SetField("volume_m3", snap.held_m3[size_t(bin)]);
+      if (probability)
+        feature->SetField("oiling_probability", probability->probability[size_t(bin)]);
+      if (out->CreateFeature(feature.get()) != OGRERR_NONE)
         throw std::runtime_error(path + ": GDAL could not write a shoreline line");
     }
+  if (!probability) return;
+  for (int bin = 0; bin < banks.bins(); ++bin) {
+    if (!(probability->probability[size_t(bin)] > 0)) continue;
+    auto feature = bin_line(bin, probability->mean_offset[size_t(bin)], "probability",
+                            probability->t_s, probability->clock);
+    feature->SetField("oiling_probability", probability->probability[size_t(bin)]);
+    if (out->CreateFeature(feature.get()) != OGRERR_NONE)
+      throw std::runtime_error(path + ": GDAL could not write a shoreline line");
+  }
 }
 
 }  // namespace farfield

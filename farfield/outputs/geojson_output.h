@@ -33,8 +33,19 @@ struct ShoreSnapshot {
 // Throw std::runtime_error naming the file when GDAL fails (a CRS PROJ cannot transform).
 void write_slick_geojson(const std::string& path, const std::vector<SlickSnapshot>& snapshots,
                          const reach::Grid& grid, const std::string& crs_wkt);
+// An ensemble's oiling of the banks: per bank bin, the share of members that stranded oil on
+// it by `clock`, drawn at `mean_offset` (per bin, m).
+struct ShoreProbability {
+  double t_s = 0;
+  std::string clock;
+  std::vector<double> probability, mean_offset;
+};
+
+// With `probability`, shoreline.geojson also holds a line for each bank bin some member oiled,
+// with its oiling probability (kind "probability"; the deterministic lines are kind "stranded").
 void write_shoreline_geojson(const std::string& path, const std::vector<ShoreSnapshot>& snapshots,
                              const Centreline& centreline, const Banks& banks,
-                             const std::string& crs_wkt);
+                             const std::string& crs_wkt,
+                             const ShoreProbability* probability = nullptr);
 
 }  // namespace farfield

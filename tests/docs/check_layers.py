@@ -7,7 +7,7 @@ The order is the one docs/design.md and the README's layout give:
                sph <- gnn <- train, infer; spill-sim's front sim/ over sph, reach and farfield
   sph/         core, boundary, neighbours, river, near_field, solvers, forces, scene,
                simulation, io, generation, app (a floor includes only floors listed before it)
-  farfield/    flows, model, outputs, then the forecast's own files at the top
+  farfield/    flows, model, outputs, ensemble, then the forecast's own files at the top
   gnn/         data, runtime, graph, models, then training and eval (side by side)
 Tests are above everything and are not checked. Usage: check_layers.py REPO_ROOT; exit 1 naming
 each include that runs the wrong way, and each loop.
@@ -23,7 +23,8 @@ LAYERS = [
     ("sph/core", 2), ("sph/boundary", 3), ("sph/neighbours", 4), ("sph/river", 5),
     ("sph/near_field", 6), ("sph/solvers", 7), ("sph/forces", 8), ("sph/scene", 9),
     ("sph/simulation", 10), ("sph/io", 11), ("sph/generation", 12), ("sph/app", 13),
-    ("farfield/flows", 2), ("farfield/model", 3), ("farfield/outputs", 4), ("farfield", 5),
+    ("farfield/flows", 2), ("farfield/model", 3), ("farfield/outputs", 4), ("farfield/ensemble", 5),
+    ("farfield", 6),
     ("gnn/data", 20), ("gnn/runtime", 20), ("gnn/graph", 21), ("gnn/models", 22),
     ("gnn/training", 23), ("gnn/eval", 23),
     ("sim", 30), ("train", 30), ("infer", 30),

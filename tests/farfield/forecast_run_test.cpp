@@ -178,6 +178,26 @@ TEST_F(Forecast, WritesEveryOutputThatItsToolsRead) {
   }
 }
 
+// The emulsion's water limit: the record's (light crude: none measured, so adios_db's estimate)
+// unless the config sets it, and forecast.json says which.
+TEST_F(Forecast, TheOilsWaterLimitAndItsSourceAreReported) {
+  const nlohmann::json estimated = run(config(), "water_estimated");
+  EXPECT_EQ(estimated["oil"]["max_water_fraction"].get<double>(), 0.9);
+  EXPECT_NE(estimated["oil"]["max_water_fraction_source"].get<std::string>().find("adios_db"),
+            std::string::npos);
+  const nlohmann::json set = run(config(), "water_set", {"/oil/max_water_content=0.5"});
+  EXPECT_EQ(set["oil"]["max_water_fraction"].get<double>(), 0.5);
+  EXPECT_NE(
+      set["oil"]["max_water_fraction_source"].get<std::string>().find("/oil/max_water_content"),
+      std::string::npos);
+  // The object form names the oil as the plain name does.
+  nlohmann::json c = config();
+  c["oil"] = {{"name", "light_crude"}, {"max_water_content", 0.5}};
+  const nlohmann::json object = run(c, "water_object");
+  EXPECT_EQ(object["oil"]["max_water_fraction"].get<double>(), 0.5);
+  EXPECT_EQ(object["released_m3"], set["released_m3"]);
+}
+
 TEST_F(Forecast, BadInputIsRefusedNamingTheFileAndKey) {
   const auto names = [](const std::string& message, const std::string& key) {
     return message.find("forecast.json") != std::string::npos &&
@@ -289,6 +309,104 @@ TEST_F(Forecast, PlausibleButWrongInputIsRefusedBeforeAnyWork) {
   }
   m = refusal({"/flow/manning=1e9"});
   EXPECT_TRUE(names(m, "/flow/manning")) << m;
+}
+
+// The ensemble (issue 49): member 0 is the forecast itself, so the deterministic outputs do not
+// change when an ensemble runs beside them; the members are reproducible by their seed; the
+// files a responder reads are there and read by GDAL.
+TEST_F(Forecast, AnEnsembleLeavesItsForecastAsItWasAndIsReproducible) {
+  const std::vector<std::string> ensemble = {"/ensemble={\"members\": 6, \"seed\": 3}"};
+  const nlohmann::json alone = run(config(), "deterministic");
+  const nlohmann::json with = run(config(), "ensemble_a", ensemble);
+  EXPECT_EQ(with["outputs"], alone["outputs"]);
+  EXPECT_EQ(with["watch_points"], alone["watch_points"]);
+  EXPECT_TRUE(alone["ensemble"].is_null());
+  const nlohmann::json& e = with["ensemble"];
+  ASSERT_EQ(e["members"].get<int>(), 6);
+  EXPECT_EQ(e["draws"][0]["wind_speed_factor"].get<double>(), 1.0);  // member 0: unperturbed
+  EXPECT_NE(e["draws"][1]["wind_speed_factor"].get<double>(), 1.0);
+  // The same seed gives the same members; another seed others.
+  const nlohmann::json again = run(config(), "ensemble_b", ensemble);
+  EXPECT_EQ(again["ensemble"], e);
+  const nlohmann::json other =
+      run(config(), "ensemble_c", {"/ensemble={\"members\": 6, \"seed\": 4}"});
+  EXPECT_NE(other["ensemble"]["draws"], e["draws"]);
+
+  // Arrival quantiles in order, and the probability of arrival never falls.
+  const nlohmann::json& intake = e["watch_points"][0];
+  const auto& q = intake["arrival_s_quantiles"];
+  ASSERT_TRUE(q["p10"].is_number()) << q;
+  if (q["p90"].is_number()) {
+    EXPECT_LE(q["p10"].get<double>(), q["p50"].get<double>());
+    EXPECT_LE(q["p50"].get<double>(), q["p90"].get<double>());
+  }
+  double last = 0;
+  for (const auto& p : intake["arrival_probability"]) {
+    EXPECT_GE(p["probability"].get<double>(), last);
+    last = p["probability"].get<double>();
+  }
+  EXPECT_GT(last, 0);
+
+  const fs::path out = dir_ / "ensemble_a";
+  EXPECT_TRUE(fs::exists(out / "png/probability.png"));
+  int status = -1;
+  const std::string info = shell("gdalinfo " + (out / "probability.tif").string(), status);
+  EXPECT_EQ(status, 0) << info;
+  EXPECT_NE(info.find("Band 5 "), std::string::npos) << "a band per output time:\n" << info;
+  EXPECT_NE(info.find("probability of oiling by"), std::string::npos) << info;
+  EXPECT_NE(info.find("NZGD2000"), std::string::npos) << "not in the reach's CRS:\n" << info;
+  const nlohmann::json shore =
+      common::load_json_file((out / "shoreline.geojson").string(), "shoreline");
+  bool probability_line = false;
+  for (const auto& f : shore["features"])
+    if (f["properties"]["kind"] == "probability") {
+      probability_line = true;
+      EXPECT_GT(f["properties"]["oiling_probability"].get<double>(), 0);
+      EXPECT_LE(f["properties"]["oiling_probability"].get<double>(), 1);
+    }
+  EXPECT_TRUE(probability_line);
+
+  // Bad ensemble input is refused naming its key.
+  std::string m = refusal({"/ensemble={\"members\": 1}"});
+  EXPECT_NE(m.find("/ensemble/members"), std::string::npos) << m;
+  m = refusal({"/ensemble={\"oils\": [\"whale_oil\"]}"});
+  EXPECT_NE(m.find("/ensemble/oils/0"), std::string::npos) << m;
+}
+
+// A symmetric case: a straight channel symmetric about its centreline, the release on it, a wind
+// along it whose direction the members turn either way alike. The probability of oiling is then
+// symmetric about the centreline, within the sampling noise of 100 members.
+TEST_F(Forecast, ASymmetricCaseGivesASymmetricProbabilityMap) {
+  nlohmann::json c = config();
+  c["environment"]["wind_speed"] = {{"value", 4}};
+  c["environment"]["wind_from"] = {{"value", 90}};  // from the east: straight downstream
+  c["ensemble"] = {{"members", 100},  {"seed", 11},      {"wind_direction", 30},
+                   {"wind_speed", 0}, {"flow_speed", 0}, {"volume", 0}};
+  const nlohmann::json summary = run(c, "symmetric");
+  // The last band (by the end), taken out by GDAL: the channel's south half against its north.
+  const fs::path folder = dir_ / "symmetric";
+  int status = -1;
+  const std::string said = shell("gdal_translate -q -b 5 " + (folder / "probability.tif").string() +
+                                     " " + (folder / "last.tif").string(),
+                                 status);
+  ASSERT_EQ(status, 0) << said;
+  const reach::Raster p = reach::read_raster((folder / "last.tif").string());
+  ASSERT_EQ(p.grid.ny, 8);
+  double south = 0, north = 0;
+  for (int j = 0; j < p.grid.ny; ++j)
+    for (int i = 0; i < p.grid.nx; ++i) {
+      const double v = p.values[p.grid.at(i, j)];
+      if (std::isnan(v)) continue;
+      (j < 4 ? south : north) += v;
+    }
+  ASSERT_GT(south + north, 10) << "hardly any cell was oiled";
+  EXPECT_LT(std::abs(south - north) / (south + north), 0.1) << south << " south, " << north;
+  double left = 0, right = 0;
+  for (const auto& b : summary["ensemble"]["bank_oiling_probability"])
+    (b["bank"] == "left" ? left : right) += b["probability"].get<double>();
+  ASSERT_GT(left + right, 1) << "the wind stranded almost nothing";
+  EXPECT_LT(std::abs(left - right) / (left + right), 0.15)
+      << left << " left, " << right << " right";
 }
 
 namespace {

@@ -48,6 +48,42 @@ TEST(OilRecords, EveryShippedOilMakesConsistentPseudoComponents) {
   EXPECT_NEAR(ans.viscosity_at(15), 10e-3 / 863.9, 1e-12);
 }
 
+// The largest water content of an emulsion: the record's where a stable or mesostable emulsion was
+// measured (the diluted bitumen's 71 %), else adios_db's estimate (emul_water in its
+// computation/gnome_oil.py): 0.9 for a crude or bitumen blend up to 50 mPa s at 15 deg C,
+// 0.9 - 0.0952 ln(mu / 50 mPa s) above, none for a refined product.
+TEST(OilRecords, TheEmulsionLimitIsMeasuredOrAdiosDbsEstimate) {
+  const OilRecord dilbit = load_oil("diluted_bitumen", SPILL_OIL_LIBRARY, "test", "/oil");
+  EXPECT_EQ(dilbit.max_water_fraction, 0.71);
+  EXPECT_NE(dilbit.max_water_source.find("measured"), std::string::npos);
+  for (const char* name : {"medium_crude", "light_crude"}) {
+    const OilRecord crude = load_oil(name, SPILL_OIL_LIBRARY, "test", "/oil");
+    EXPECT_EQ(crude.max_water_fraction, 0.9) << name;  // 10 and 8 mPa s at 15 deg C
+    EXPECT_NE(crude.max_water_source.find("adios_db"), std::string::npos) << name;
+  }
+
+  const std::filesystem::path dir =
+      std::filesystem::temp_directory_path() / ("spill_emulsion_" + std::to_string(getpid()));
+  std::filesystem::create_directories(dir);
+  std::ifstream in(std::string(SPILL_OIL_LIBRARY) + "/medium_crude.json");
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const auto with = [&](const std::string& from, const std::string& to) {
+    std::string changed = text;
+    changed.replace(changed.find(from), from.size(), to);
+    const std::string file = (dir / "variant.json").string();
+    std::ofstream(file) << changed;
+    return load_oil(file, SPILL_OIL_LIBRARY, "test", "/oil");
+  };
+  // 500 mPa s at 15 deg C: 0.9 - 0.0952 ln 10.
+  const OilRecord thick = with("\"dynamic_mpa_s\": 10.0", "\"dynamic_mpa_s\": 500.0");
+  EXPECT_NEAR(thick.max_water_fraction, 0.9 - 0.0952 * std::log(10.0), 1e-9);
+  const OilRecord refined = with("\"api\":", "\"product_type\": \"refined\", \"api\":");
+  EXPECT_EQ(refined.max_water_fraction, 0);
+  const OilRecord measured = with("\"api\":", "\"max_water_fraction\": 0.4, \"api\":");
+  EXPECT_EQ(measured.max_water_fraction, 0.4);
+  std::filesystem::remove_all(dir);
+}
+
 TEST(OilRecords, ABadRecordIsRefusedNamingItsFileAndKey) {
   const std::filesystem::path dir =
       std::filesystem::temp_directory_path() / ("spill_oil_" + std::to_string(getpid()));

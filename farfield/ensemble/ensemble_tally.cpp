@@ -1,0 +1,91 @@
+#include "farfield/ensemble/ensemble_tally.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace farfield {
+
+EnsembleTally::EnsembleTally(const reach::Grid& grid, int bank_bins, size_t outputs,
+                             size_t watch_points)
+    : grid_(grid),
+      outputs_(outputs),
+      cell_seen_(grid.cells(), 0),
+      bin_seen_(size_t(bank_bins), 0),
+      cell_count_(outputs, std::vector<std::uint32_t>(grid.cells(), 0)),
+      bin_count_(size_t(bank_bins), 0),
+      bin_offset_sum_(size_t(bank_bins), 0.0),
+      bin_offset_count_(size_t(bank_bins), 0.0),
+      arrivals_(watch_points),
+      budgets_(outputs) {}
+
+void EnsembleTally::begin_member() {
+  std::fill(cell_seen_.begin(), cell_seen_.end(), 0);
+  std::fill(bin_seen_.begin(), bin_seen_.end(), 0);
+  output_ = 0;
+}
+
+void EnsembleTally::after_step(const FarFieldModel& model) {
+  const Elements& el = model.elements();
+  for (size_t e = 0; e < el.size(); ++e) {
+    if (el.state[e] == ElementState::left_reach) continue;
+    if (el.state[e] == ElementState::stranded) bin_seen_[size_t(el.bank_segment[e])] = 1;
+    const int i = int(std::floor((el.x[e] - grid_.x0) / grid_.dx));
+    const int j = int(std::floor((el.y[e] - grid_.y0) / grid_.dy));
+    if (i < 0 || j < 0 || i >= grid_.nx || j >= grid_.ny) continue;
+    cell_seen_[grid_.at(i, j)] = 1;
+  }
+}
+
+void EnsembleTally::at_output(const FarFieldModel& model) {
+  if (output_ >= outputs_) return;
+  after_step(model);  // the oil at time 0 too
+  std::vector<std::uint32_t>& count = cell_count_[output_];
+  for (size_t c = 0; c < count.size(); ++c) count[c] += cell_seen_[c];
+  budgets_[output_].push_back(model.budget());
+  const Elements& el = model.elements();
+  for (size_t e = 0; e < el.size(); ++e) {
+    if (el.state[e] != ElementState::stranded) continue;
+    const size_t bin = size_t(el.bank_segment[e]);
+    bin_offset_sum_[bin] += model.setup().centreline.locate(el.x[e], el.y[e]).offset_m;
+    bin_offset_count_[bin] += 1;
+  }
+  ++output_;
+}
+
+void EnsembleTally::end_member(const std::vector<WatchPoint>& points) {
+  for (size_t b = 0; b < bin_count_.size(); ++b) bin_count_[b] += bin_seen_[b];
+  for (size_t p = 0; p < points.size() && p < arrivals_.size(); ++p)
+    arrivals_[p].push_back(points[p].arrival_s);
+  ++members_;
+}
+
+reach::Field EnsembleTally::cell_probability(size_t k) const {
+  reach::Field p(grid_.cells(), 0.0);
+  if (members_ == 0) return p;
+  for (size_t c = 0; c < p.size(); ++c) p[c] = double(cell_count_[k][c]) / members_;
+  return p;
+}
+
+std::vector<double> EnsembleTally::bank_probability() const {
+  std::vector<double> p(bin_count_.size(), 0.0);
+  if (members_ == 0) return p;
+  for (size_t b = 0; b < p.size(); ++b) p[b] = double(bin_count_[b]) / members_;
+  return p;
+}
+
+std::vector<double> EnsembleTally::bank_offset() const {
+  std::vector<double> offset(bin_offset_sum_.size(), 0.0);
+  for (size_t b = 0; b < offset.size(); ++b)
+    if (bin_offset_count_[b] > 0) offset[b] = bin_offset_sum_[b] / bin_offset_count_[b];
+  return offset;
+}
+
+double quantile(std::vector<double> values, double q) {
+  if (values.empty()) return std::nan("");
+  std::sort(values.begin(), values.end());
+  const double at = q * double(values.size() - 1);
+  const size_t lo = size_t(std::floor(at)), hi = std::min(values.size() - 1, lo + 1);
+  return values[lo] + (at - double(lo)) * (values[hi] - values[lo]);
+}
+
+}  // namespace farfield
