@@ -221,6 +221,7 @@ struct ForecastConfig {
   BanksConfig banks;
   std::vector<WatchPointConfig> watch_points;
   std::optional<EnsembleConfig> ensemble;
+  std::string evaporation = "adios";
   double end_time = 21600, time_step = 60, output_every = 1800;
   int seed = 1;
   std::string start_date = "2000-01-01T00:00:00Z";
@@ -247,6 +248,11 @@ struct ForecastConfig {
             param("",
                   "Perturbed members run beside the forecast: the probability of oiling per cell "
                   "and bank, arrival quantiles (absent: the forecast alone)"));
+    v.field("evaporation", evaporation,
+            param("",
+                  "adios: ADIOS-2's pseudo-components (wind, slick size, temperature); fingas: "
+                  "the oil's Fingas equation (measured in a pan, no wind)")
+                .one_of({"adios", "fingas"}));
     v.field("end_time", end_time, param("s", "How long to forecast").positive());
     v.field("time_step", time_step, param("s", "Time step").positive());
     v.field("output_every", output_every, param("s", "Interval of the outputs").positive());

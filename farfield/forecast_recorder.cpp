@@ -115,6 +115,11 @@ nlohmann::json oil_json(const OilRecord& oil) {
           {"emulsification_onset", oil.emulsification_onset},
           {"max_water_fraction", oil.max_water_fraction},
           {"max_water_fraction_source", oil.max_water_source},
+          {"fingas_evaporation",
+           {{"a", oil.fingas.a},
+            {"b", oil.fingas.b},
+            {"form", oil.fingas.square_root ? "sqrt" : "ln"},
+            {"source", oil.fingas.source}}},
           {"pseudo_components", components}};
 }
 

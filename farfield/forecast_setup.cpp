@@ -233,6 +233,7 @@ ForecastSetup build_forecast(const ForecastConfig& c, const std::string& file) {
   // A continuous release's oil of one output interval spreads as one slick: the interval a
   // reader of the outputs sees, and no more a matter of the time step.
   s.slick_interval = c.output_every;
+  s.weathering.fingas = c.evaporation == "fingas";
   out.watch_points = build_watch_points(c, *flow, s.centreline, file);
   return out;
 }

@@ -9,6 +9,7 @@
 #include "common/config_error.h"
 #include "common/config_visitors.h"
 #include "common/json_file.h"
+#include "common/number_text.h"
 #include "common/param_spec.h"
 
 namespace farfield {
@@ -63,6 +64,19 @@ struct DistillationConfig {
   }
 };
 
+struct FingasConfig {
+  double a = 0, b = 0;
+  std::string form = "ln";
+  std::string source;
+  template <class V>
+  void describe(V& v) {
+    v.field("a", a, param("%", "A of %Ev = (A + B T) f(t)").require());
+    v.field("b", b, param("%/deg C", "B of %Ev = (A + B T) f(t)").require());
+    v.field("form", form, param("", "f(t), t in minutes").one_of({"ln", "sqrt"}));
+    v.field("source", source, param("", "Where the coefficients come from").require());
+  }
+};
+
 struct RecordConfig {
   std::string name, description, source, record_id;
   double api = 30;
@@ -71,6 +85,7 @@ struct RecordConfig {
   double pour_point_c = 0;
   double interfacial_tension_n_m = 0;
   std::optional<double> max_water_fraction;
+  std::optional<FingasConfig> fingas;
   std::string product_type = "crude";
   double asphaltene_fraction = 0;
   DistillationConfig distillation;
@@ -96,6 +111,10 @@ struct RecordConfig {
                   "(absent: none measured, estimated by adios_db's rule)")
                 .non_negative()
                 .at_most(0.95));
+    v.field("fingas", fingas,
+            param("",
+                  "The oil's own Fingas evaporation equation (absent: estimated from the "
+                  "distillation curve)"));
     v.field("product_type", product_type,
             param("", "What the oil is: a crude or bitumen blend emulsifies, a refined product not")
                 .one_of({"crude", "bitumen blend", "refined"}));
@@ -163,6 +182,13 @@ double boiled_by(const std::vector<std::vector<double>>& points, double t_k) {
 }
 
 }  // namespace
+
+double FingasEquation::fraction(double age_s, double temperature_c) const {
+  const double minutes = age_s / 60;
+  if (!(minutes > 1)) return 0;
+  const double f = square_root ? std::sqrt(minutes) : std::log(minutes);
+  return std::max(0.0, (a + b * temperature_c) * f / 100);
+}
 
 double PseudoComponent::vapour_pressure(double temperature_k) const {
   if (!volatile_cut) return 0;
@@ -242,6 +268,16 @@ OilRecord load_oil(const std::string& name, const std::string& library_dir,
     oil.max_water_source =
         "estimated by adios_db's rule for a " + r.product_type +
         " with no stable emulsion measured (0.9, less above 50 mPa s at 15 deg C)";
+  }
+
+  if (r.fingas) {
+    oil.fingas = {r.fingas->a, r.fingas->b, r.fingas->form == "sqrt", r.fingas->source};
+  } else {
+    const double distilled_180 = 100 * boiled_by(r.distillation.points, 180 + kZeroCelsius);
+    oil.fingas = {0.165 * distilled_180 - 0.675, 0.045, false,
+                  "estimated from the distillation curve (Fingas 2004: %Ev = (0.165 %D + 0.045 "
+                  "(T - 15)) ln t, %D = " +
+                      common::number_text(distilled_180) + " % distilled at 180 deg C)"};
   }
 
   // Pseudo-components: the curve read at the cut temperatures, then the residue.

@@ -29,6 +29,18 @@ struct PseudoComponent {
   double vapour_pressure(double temperature_k) const;
 };
 
+// Fingas' empirical evaporation of an oil from a pan, %Ev = (a + b T) f(t), T in deg C, t in
+// minutes, f = ln t (most crudes) or sqrt t (diesel-like oils): the record's own coefficients, or
+// estimated from its distillation curve as Fingas (2004) does for oils that follow ln t,
+// a = 0.165 %D - 0.675, b = 0.045, %D the mass percentage distilled at 180 deg C.
+struct FingasEquation {
+  double a = 0, b = 0;
+  bool square_root = false;  // f = sqrt t, else ln t
+  std::string source;
+  // The evaporated fraction (0-1, at least 0) after `age_s` at `temperature_c`.
+  double fraction(double age_s, double temperature_c) const;
+};
+
 struct OilRecord {
   std::string name, description, source, file;
   double density = 0;  // kg/m^3 at density_temperature
@@ -40,6 +52,7 @@ struct OilRecord {
   double max_water_fraction = 0;    // of a stable emulsion's volume
   std::string max_water_source;     // measured, estimated (adios_db's rule) or set in a config
   double emulsification_onset = 0;  // evaporated fraction at which water uptake starts
+  FingasEquation fingas;
   std::vector<PseudoComponent> components;
 
   // The fresh oil's kinematic viscosity (m^2/s) at T (deg C): ln(nu) linear in 1/T through the

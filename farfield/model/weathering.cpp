@@ -127,6 +127,24 @@ void evaporate(const OilRecord& oil, Elements& el, size_t e, const StepWeatherin
   el.evaporated_mass[e] += lost;
 }
 
+void evaporate_fingas(const OilRecord& oil, Elements& el, size_t e, const StepWeathering& w,
+                      double dt) {
+  if (w.weather.ice) return;
+  const double target =
+      oil.fingas.fraction(std::max(0.0, el.age[e] + dt), w.weather.water_temperature_c) *
+      el.released_mass[e];
+  double lose = target - el.evaporated_mass[e];
+  const size_t base = e * size_t(el.cuts);
+  for (int c = 0; c < el.cuts && lose > 0; ++c) {
+    if (!oil.components[size_t(c)].volatile_cut) break;
+    double& m = el.mass[base + size_t(c)];
+    const double lost = std::min(m, lose);
+    m -= lost;
+    lose -= lost;
+    el.evaporated_mass[e] += lost;
+  }
+}
+
 void emulsify(const OilRecord& oil, Elements& el, size_t e, const StepWeathering& w, double dt) {
   const double y_max = oil.max_water_fraction;
   if (!(y_max > 0)) return;
@@ -163,7 +181,10 @@ void disperse(const OilRecord&, Elements& el, size_t e, const StepWeathering& w,
 
 void weather_element(const OilRecord& oil, Elements& el, size_t e, const StepWeathering& w,
                      const WeatheringSwitches& on, double slick_diameter, double dt) {
-  if (on.evaporation) evaporate(oil, el, e, w, slick_diameter, dt);
+  if (on.evaporation && on.fingas)
+    evaporate_fingas(oil, el, e, w, dt);
+  else if (on.evaporation)
+    evaporate(oil, el, e, w, slick_diameter, dt);
   if (on.emulsification) emulsify(oil, el, e, w, dt);
   if (on.dispersion) disperse(oil, el, e, w, dt);
 }

@@ -39,6 +39,10 @@ struct WeatherNow {
 
 struct WeatheringSwitches {
   bool evaporation = true, emulsification = true, dispersion = true;
+  // Evaporation by the oil's Fingas equation (OilRecord::fingas) instead of ADIOS-2's
+  // pseudo-components: the element's evaporated fraction follows the equation at its age, its
+  // lightest cuts going first.
+  bool fingas = false;
 };
 
 // The significant wave height (m) a wind of `wind_speed` (m/s) raises over `fetch` (m), fetch
@@ -69,6 +73,9 @@ StepWeathering step_weathering(const OilRecord& oil, const WeatherNow& w);
 // Evaporates element e for dt with its slick's diameter `slick_diameter` (m).
 void evaporate(const OilRecord& oil, Elements& el, size_t e, const StepWeathering& w,
                double slick_diameter, double dt);
+// Evaporates element e to its Fingas fraction at age + dt, lightest cuts first.
+void evaporate_fingas(const OilRecord& oil, Elements& el, size_t e, const StepWeathering& w,
+                      double dt);
 void emulsify(const OilRecord& oil, Elements& el, size_t e, const StepWeathering& w, double dt);
 void disperse(const OilRecord& oil, Elements& el, size_t e, const StepWeathering& w, double dt);
 
