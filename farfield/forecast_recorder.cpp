@@ -169,7 +169,8 @@ void ForecastRecorder::record(const FarFieldModel& model, const std::vector<Watc
   nlohmann::json record = forecast_record(model, flow_.grid(), points);
   record["time"] = clock(t);
   outputs_.push_back(record);
-  slicks_.push_back({t, record["time"], oiled_cells(model, flow_.grid())});
+  slicks_.push_back(
+      {t, record["time"], oiled_cells(model, flow_.grid()), oiled_volume(model, flow_.grid())});
   ShoreSnapshot shore = shore_snapshot(model);
   shore.clock = record["time"];
   shores_.push_back(std::move(shore));

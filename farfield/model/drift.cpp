@@ -117,7 +117,7 @@ LocalDrift local_drift(const FlowSample& s, const DriftSettings& settings) {
 DriftResult drift_element(const SurfaceFlow& flow, const DriftSettings& settings, const Wind& wind,
                           bool ice, double grid_cell, double min_depth, double t, double dt,
                           std::uint64_t step, std::uint64_t element, double x, double y,
-                          const BankFull& bank_full) {
+                          const BankFull& bank_full, double spread_x, double spread_y) {
   DriftResult r;
   r.x = r.wet_x = x;
   r.y = r.wet_y = y;
@@ -170,25 +170,29 @@ DriftResult drift_element(const SurfaceFlow& flow, const DriftSettings& settings
     y = r.y = r.wet_y = ny;
   }
   // The mixing: one Gaussian step of the whole dt (its variance 2 D dt is exact for any dt
-  // where D is uniform), with the drift div(D) by central differences over half a cell.
-  if (settings.mixing) {
+  // where D is uniform), with the drift div(D) by central differences over half a cell; and the
+  // spreading's displacement with it.
+  if (settings.mixing || spread_x != 0 || spread_y != 0) {
     const double te = t + dt;
-    const LocalDrift d = local_drift(here, settings);
-    const double delta = 0.5 * grid_cell;
-    double xx_e, xy_e, yy_e, xx_w, xy_w, yy_w, xx_n, xy_n, yy_n, xx_s, xy_s, yy_s;
-    diffusivity(flow, settings, x + delta, y, te, xx_e, xy_e, yy_e);
-    diffusivity(flow, settings, x - delta, y, te, xx_w, xy_w, yy_w);
-    diffusivity(flow, settings, x, y + delta, te, xx_n, xy_n, yy_n);
-    diffusivity(flow, settings, x, y - delta, te, xx_s, xy_s, yy_s);
-    const double div_x = (xx_e - xx_w + xy_n - xy_s) / (2 * delta);
-    const double div_y = (xy_e - xy_w + yy_n - yy_s) / (2 * delta);
-    CounterRandom random(settings.seed, step, element, 0);
-    double a, b;
-    random.normal_pair(a, b);
-    const double along = std::sqrt(2 * d.d_along * dt) * a;
-    const double across = std::sqrt(2 * d.d_across * dt) * b;
-    const double nx = x + div_x * dt + along * d.ex - across * d.ey;
-    const double ny = y + div_y * dt + along * d.ey + across * d.ex;
+    double nx = x + spread_x, ny = y + spread_y;
+    if (settings.mixing) {
+      const LocalDrift d = local_drift(here, settings);
+      const double delta = 0.5 * grid_cell;
+      double xx_e, xy_e, yy_e, xx_w, xy_w, yy_w, xx_n, xy_n, yy_n, xx_s, xy_s, yy_s;
+      diffusivity(flow, settings, x + delta, y, te, xx_e, xy_e, yy_e);
+      diffusivity(flow, settings, x - delta, y, te, xx_w, xy_w, yy_w);
+      diffusivity(flow, settings, x, y + delta, te, xx_n, xy_n, yy_n);
+      diffusivity(flow, settings, x, y - delta, te, xx_s, xy_s, yy_s);
+      const double div_x = (xx_e - xx_w + xy_n - xy_s) / (2 * delta);
+      const double div_y = (xy_e - xy_w + yy_n - yy_s) / (2 * delta);
+      CounterRandom random(settings.seed, step, element, 0);
+      double a, b;
+      random.normal_pair(a, b);
+      const double along = std::sqrt(2 * d.d_along * dt) * a;
+      const double across = std::sqrt(2 * d.d_across * dt) * b;
+      nx += div_x * dt + along * d.ex - across * d.ey;
+      ny += div_y * dt + along * d.ey + across * d.ex;
+    }
     const FlowSample end = flow.sample(nx, ny, te);
     if (!is_water(end, min_depth)) {
       if (end.where != FlowWhere::outside && bank_full && bank_full(x, y)) {

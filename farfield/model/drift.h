@@ -80,10 +80,12 @@ using BankFull = std::function<bool(double x, double y)>;
 // Moves an element at (x, y) on for dt from time t (s); `step` and `element` seed its random
 // walk. It stops at the first sub-step that lands on a bank that takes oil, in water shallower
 // than `min_depth` (then `where` is bank) or outside the flow's domain. `grid_cell` is the
-// flow's resolution (m), for the sub-steps and div(D).
+// flow's resolution (m), for the sub-steps and div(D). (spread_x, spread_y) is the step's
+// displacement by the slick's spreading (m), taken with the mixing's.
 DriftResult drift_element(const SurfaceFlow& flow, const DriftSettings& settings, const Wind& wind,
                           bool ice, double grid_cell, double min_depth, double t, double dt,
                           std::uint64_t step, std::uint64_t element, double x, double y,
-                          const BankFull& bank_full = {});
+                          const BankFull& bank_full = {}, double spread_x = 0,
+                          double spread_y = 0);
 
 }  // namespace farfield

@@ -26,6 +26,7 @@ struct Elements {
   std::vector<double> area;             // m^2 of water surface the element covers
   std::vector<int> slick;               // the Fay slick it was born in (a release's step)
   std::vector<double> slick_share;      // its share of that slick's oil (0-1]
+  std::vector<double> spread_radius;    // m: how far its slick's spreading has moved it out
   std::vector<double> age;              // s since release
   std::vector<double> stranded_since;   // s of forecast time when it stranded (or -1)
   std::vector<int> bank_segment;        // the bank bin holding it when stranded, else -1
@@ -56,6 +57,7 @@ struct Elements {
     area.push_back(area_m2);
     slick.push_back(slick_index);
     slick_share.push_back(share);
+    spread_radius.push_back(0);
     age.push_back(age_s);
     stranded_since.push_back(-1);
     bank_segment.push_back(-1);

@@ -10,6 +10,16 @@ namespace farfield {
 namespace {
 constexpr double kPi = 3.14159265358979323846;
 constexpr std::uint64_t kRefloatSalt = 0x5EF1'0A7ull;
+// Element e's place in the unit disc, uniform over it: Roberts' R2 low-discrepancy sequence
+// (the plastic number's powers) mapped to the disc, so that any run of consecutive elements, a
+// slick's, covers it evenly without the clumps of random draws.
+void place_in_disc(std::uint64_t e, double& ux, double& uy) {
+  constexpr double a1 = 0.7548776662466927, a2 = 0.5698402909980532;
+  const double u = std::fmod(0.5 + a1 * double(e), 1.0), v = std::fmod(0.5 + a2 * double(e), 1.0);
+  const double r = std::sqrt(u), theta = 2 * kPi * v;
+  ux = r * std::cos(theta);
+  uy = r * std::sin(theta);
+}
 }  // namespace
 
 double Budget::closure_error() const {
@@ -126,9 +136,18 @@ void FarFieldModel::step(double dt) {
     const double slick_diameter = 2 * std::sqrt(el.area[e] / share / kPi);
     weather_element(setup_.oil, el, e, weathering, setup_.weathering, slick_diameter, live);
     el.age[e] += dt;
+    double spread_x = 0, spread_y = 0;
     if (setup_.spreading) {
       const double most = el.released_mass[e] / setup_.oil.density / min_thickness;
       el.area[e] = std::max(el.area[e], std::min(share * slick.area_at(el.age[e]), most));
+      // The slick's elements fill its disc: each moves out to its own place in it as the
+      // radius grows, so that the mapped slick is the area the weathering uses.
+      const double radius = std::sqrt(el.area[e] / share / kPi);
+      double ux, uy;
+      place_in_disc(std::uint64_t(e), ux, uy);
+      spread_x = (radius - el.spread_radius[e]) * ux;
+      spread_y = (radius - el.spread_radius[e]) * uy;
+      el.spread_radius[e] = radius;
     }
     const double volume = emulsion_volume(e);
     const double min_depth = std::max(setup_.dry_depth, volume / el.area[e]);  // its thickness
@@ -139,7 +158,8 @@ void FarFieldModel::step(double dt) {
       return bank_held_[size_t(bin)] + volume > setup_.banks.capacity_m3(bin);
     };
     moved_[e] = drift_element(flow, setup_.drift, wind, env.ice, cell, min_depth, t1 - live, live,
-                              std::uint64_t(steps_), std::uint64_t(e), el.x[e], el.y[e], bank_full);
+                              std::uint64_t(steps_), std::uint64_t(e), el.x[e], el.y[e], bank_full,
+                              spread_x, spread_y);
   }
 
   // Stranding and leaving, in element order (the banks' capacity is shared).

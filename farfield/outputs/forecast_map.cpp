@@ -8,12 +8,12 @@
 #include "common/bitmap_font.h"
 #include "common/drawing.h"
 #include "common/picture_annotation.h"
+#include "farfield/outputs/appearance.h"
 #include "reach/reach_map.h"
 
 namespace farfield {
 
 namespace {
-constexpr common::Rgb kFloating{60, 35, 10};
 constexpr common::Rgb kStranded{220, 40, 30};
 constexpr common::Rgb kWatch{200, 0, 200};
 constexpr common::Rgb kInk{30, 30, 30};
@@ -59,7 +59,7 @@ common::RgbImage draw_forecast_map(const ReachFlow& flow, const FarFieldModel& m
       frame.to_pixel(el.x[e], el.y[e], px, py);
       if (py < frame.height)
         dot(img, px, py, state == ElementState::floating ? 1 : 2,
-            state == ElementState::floating ? kFloating : kStranded);
+            state == ElementState::floating ? bonn_class(model.thickness(e)).colour : kStranded);
     }
   const int scale = common::kAnnotationTextScale;
   for (const WatchPoint& p : points) {
@@ -74,10 +74,16 @@ common::RgbImage draw_forecast_map(const ReachFlow& flow, const FarFieldModel& m
   const int pad = 8, line = common::kGlyphHeight * scale + pad;
   const int y = frame.band_top + pad + 2 * (line + pad / 2);
   int x = pad;
-  dot(img, x + 4, y + (line - pad) / 2, 3, kFloating);
-  x += 14;
-  common::draw_text(img, x, y, "afloat", scale, kInk);
-  x += common::text_width("afloat", scale) + 2 * pad;
+  // Afloat by the film's Bonn Agreement appearance code, 1 (sheen) to 5 (continuous true colour).
+  for (const AppearanceClass& c : bonn_classes()) {
+    dot(img, x + 4, y + (line - pad) / 2, 3, c.colour);
+    x += 10;
+    const std::string code = std::to_string(c.code);
+    common::draw_text(img, x, y, code, scale, kInk);
+    x += common::text_width(code, scale) + 4;
+  }
+  common::draw_text(img, x, y, "afloat (Bonn code)", scale, kInk);
+  x += common::text_width("afloat (Bonn code)", scale) + 2 * pad;
   dot(img, x + 4, y + (line - pad) / 2, 3, kStranded);
   x += 14;
   common::draw_text(img, x, y, "on banks", scale, kInk);

@@ -20,6 +20,19 @@ reach::Field oiled_cells(const FarFieldModel& model, const reach::Grid& g) {
   return cover;
 }
 
+reach::Field oiled_volume(const FarFieldModel& model, const reach::Grid& g) {
+  reach::Field volume(g.cells(), 0.0);
+  const Elements& el = model.elements();
+  for (size_t e = 0; e < el.size(); ++e) {
+    if (el.state[e] != ElementState::floating) continue;
+    const int i = int(std::floor((el.x[e] - g.x0) / g.dx));
+    const int j = int(std::floor((el.y[e] - g.y0) / g.dy));
+    if (i < 0 || j < 0 || i >= g.nx || j >= g.ny) continue;
+    volume[g.at(i, j)] += model.emulsion_volume(e);
+  }
+  return volume;
+}
+
 void update_arrivals(const FarFieldModel& model, std::vector<WatchPoint>& points) {
   const Elements& el = model.elements();
   for (WatchPoint& p : points) {

@@ -23,6 +23,10 @@ struct WatchPoint {
 // a cell covered at most once (m^2 per cell).
 reach::Field oiled_cells(const FarFieldModel& model, const reach::Grid& grid);
 
+// The floating oil's emulsion volume in each cell of `grid` (m^3): with oiled_cells, the film's
+// thickness there.
+reach::Field oiled_volume(const FarFieldModel& model, const reach::Grid& grid);
+
 // Marks each watch point's arrival when any floating or stranded element lies within its radius
 // (called after every step).
 void update_arrivals(const FarFieldModel& model, std::vector<WatchPoint>& points);

@@ -1,5 +1,7 @@
 #include "farfield/outputs/geojson_output.h"
 
+#include "farfield/outputs/appearance.h"
+
 #include <gdal_alg.h>
 #include <gdal_priv.h>
 #include <ogrsf_frmts.h>
@@ -54,6 +56,10 @@ void write_slick_geojson(const std::string& path, const std::vector<SlickSnapsho
   add_field(path, out, "t_s", OFTReal);
   add_field(path, out, "time", OFTString);
   add_field(path, out, "oiled_area_m2", OFTReal);
+  add_field(path, out, "bonn_code", OFTInteger);
+  add_field(path, out, "appearance", OFTString);
+  add_field(path, out, "thickness_um_from", OFTReal);
+  add_field(path, out, "thickness_um_to", OFTReal);
 
   GDALDriver* mem = GetGDALDriverManager()->GetDriverByName("MEM");
   GDALDriver* vector_memory = GetGDALDriverManager()->GetDriverByName("Memory");
@@ -62,7 +68,7 @@ void write_slick_geojson(const std::string& path, const std::vector<SlickSnapsho
   srs.importFromWkt(crs_wkt.c_str());
   srs.SetAxisMappingStrategy(OAMS_TRADITIONAL_GIS_ORDER);
   for (const SlickSnapshot& snap : snapshots) {
-    // The oiled cells as a north-up mask (GDAL's row 0 is the northernmost).
+    // The oiled cells' appearance codes (0: clean) north up (GDAL's row 0 is the northernmost).
     Dataset raster(mem->Create("", g.nx, g.ny, 1, GDT_Byte, nullptr));
     double transform[6] = {g.x0, g.dx, 0, g.y0 + g.ny * g.dy, 0, -g.dy};
     raster->SetGeoTransform(transform);
@@ -70,7 +76,10 @@ void write_slick_geojson(const std::string& path, const std::vector<SlickSnapsho
     std::vector<std::uint8_t> mask(g.cells());
     for (int j = 0; j < g.ny; ++j)
       for (int i = 0; i < g.nx; ++i)
-        mask[size_t(g.ny - 1 - j) * size_t(g.nx) + size_t(i)] = snap.oiled[g.at(i, j)] > 0 ? 1 : 0;
+        mask[size_t(g.ny - 1 - j) * size_t(g.nx) + size_t(i)] =
+            snap.oiled[g.at(i, j)] > 0
+                ? std::uint8_t(bonn_class(snap.volume[g.at(i, j)] / snap.oiled[g.at(i, j)]).code)
+                : 0;
     GDALRasterBand* band = raster->GetRasterBand(1);
     if (band->RasterIO(GF_Write, 0, 0, g.nx, g.ny, mask.data(), g.nx, g.ny, GDT_Byte, 0, 0,
                        nullptr) != CE_None)
@@ -88,10 +97,16 @@ void write_slick_geojson(const std::string& path, const std::vector<SlickSnapsho
     for (auto& shape : *shapes) {
       const OGRGeometry* geometry = shape->GetGeometryRef();
       if (!geometry) continue;
+      const int code = shape->GetFieldAsInteger(0);
+      const AppearanceClass& c = bonn_classes()[size_t(std::clamp(code, 1, 5) - 1)];
       OGRFeature feature(out->GetLayerDefn());
       feature.SetField("t_s", snap.t_s);
       feature.SetField("time", snap.clock.c_str());
       feature.SetField("oiled_area_m2", geometry->toPolygon()->get_Area());
+      feature.SetField("bonn_code", c.code);
+      feature.SetField("appearance", c.appearance);
+      feature.SetField("thickness_um_from", c.from_um);
+      if (c.code < 5) feature.SetField("thickness_um_to", c.to_um);
       feature.SetGeometry(geometry);
       if (out->CreateFeature(&feature) != OGRERR_NONE)
         throw std::runtime_error(path + ": GDAL could not write a slick polygon");

@@ -4,7 +4,8 @@
 // exterior rings counter-clockwise, holes clockwise.
 //
 // slick.geojson: per output time, the polygons of the reach's cells the floating oil covers
-// (8-connected), each with its time and area. shoreline.geojson: per output time, the bank bins
+// (8-connected) by the film's Bonn Agreement appearance class (appearance.h), each with its time,
+// area, code, appearance and thickness range. shoreline.geojson: per output time, the bank bins
 // that hold stranded oil as lines beside the centreline at the mean offset of their oil, each
 // with its bank, km, class and volume.
 
@@ -20,7 +21,8 @@ namespace farfield {
 struct SlickSnapshot {
   double t_s = 0;
   std::string clock;   // ISO 8601 UTC
-  reach::Field oiled;  // m^2 covered per cell of the grid
+  reach::Field oiled;   // m^2 covered per cell of the grid
+  reach::Field volume;  // m^3 of emulsion per cell (its film is volume / oiled thick)
 };
 
 struct ShoreSnapshot {

@@ -175,6 +175,13 @@ TEST_F(Forecast, WritesEveryOutputThatItsToolsRead) {
                     ring[k + 1][0].get<double>() * ring[k][1].get<double>();
     }
     EXPECT_GT(twice_area, 0) << "an exterior ring runs clockwise";
+    // Each polygon is one Bonn Agreement appearance class, its thickness range with it.
+    const auto& p = f["properties"];
+    const int code = p["bonn_code"].get<int>();
+    EXPECT_GE(code, 1);
+    EXPECT_LE(code, 5);
+    EXPECT_FALSE(p["appearance"].get<std::string>().empty());
+    if (code < 5) EXPECT_LT(p["thickness_um_from"].get<double>(), p["thickness_um_to"].get<double>());
   }
 }
 
