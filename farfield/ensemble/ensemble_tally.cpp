@@ -29,10 +29,8 @@ void EnsembleTally::after_step(const FarFieldModel& model) {
   for (size_t e = 0; e < el.size(); ++e) {
     if (el.state[e] == ElementState::left_reach) continue;
     if (el.state[e] == ElementState::stranded) bin_seen_[size_t(el.bank_segment[e])] = 1;
-    const int i = int(std::floor((el.x[e] - grid_.x0) / grid_.dx));
-    const int j = int(std::floor((el.y[e] - grid_.y0) / grid_.dy));
-    if (i < 0 || j < 0 || i >= grid_.nx || j >= grid_.ny) continue;
-    cell_seen_[grid_.at(i, j)] = 1;
+    size_t cell = 0;
+    if (cell_holding(grid_, el.x[e], el.y[e], cell)) cell_seen_[cell] = 1;
   }
 }
 

@@ -32,6 +32,18 @@ void triangle(common::RgbImage& img, double px, double py, int size, common::Rgb
                       2 * half + 1, 1, c);
   }
 }
+// The watch points as named magenta triangles.
+void draw_watch_points(common::RgbImage& img, const reach::MapFrame& frame,
+                       const std::vector<WatchPoint>& points) {
+  for (const WatchPoint& p : points) {
+    double px, py;
+    frame.to_pixel(p.x, p.y, px, py);
+    triangle(img, px, py, 12, kWatch);
+    if (py < frame.height - 10)
+      common::draw_text(img, int(px) + 9, int(py) - 6, p.name, common::kAnnotationTextScale,
+                        kWatch);
+  }
+}
 }  // namespace
 
 void map_colour_scales(const ReachFlow& flow, double& depth_scale, double& speed_scale) {
@@ -61,20 +73,15 @@ common::RgbImage draw_forecast_map(const ReachFlow& flow, const FarFieldModel& m
         dot(img, px, py, state == ElementState::floating ? 1 : 2,
             state == ElementState::floating ? bonn_class(model.thickness(e)).colour : kStranded);
     }
+  draw_watch_points(img, frame, points);
   const int scale = common::kAnnotationTextScale;
-  for (const WatchPoint& p : points) {
-    double px, py;
-    frame.to_pixel(p.x, p.y, px, py);
-    triangle(img, px, py, 12, kWatch);
-    if (py < frame.height - 10)
-      common::draw_text(img, int(px) + 9, int(py) - 6, p.name, scale, kWatch);
-  }
 
   // The band's third line: the legend and the budget.
   const int pad = 8, line = common::kGlyphHeight * scale + pad;
   const int y = frame.band_top + pad + 2 * (line + pad / 2);
   int x = pad;
-  // Afloat by the film's Bonn Agreement appearance code, 1 (sheen) to 5 (continuous true colour).
+  // Afloat by the film's Bonn Agreement appearance code, 1 (sheen) to 5 (continuous true colour),
+  // each dot labelled by its code.
   for (const AppearanceClass& c : bonn_classes()) {
     dot(img, x + 4, y + (line - pad) / 2, 3, c.colour);
     x += 10;
@@ -82,16 +89,15 @@ common::RgbImage draw_forecast_map(const ReachFlow& flow, const FarFieldModel& m
     common::draw_text(img, x, y, code, scale, kInk);
     x += common::text_width(code, scale) + 4;
   }
-  common::draw_text(img, x, y, "afloat (Bonn code)", scale, kInk);
-  x += common::text_width("afloat (Bonn code)", scale) + 2 * pad;
+  x += pad;
   dot(img, x + 4, y + (line - pad) / 2, 3, kStranded);
   x += 14;
-  common::draw_text(img, x, y, "on banks", scale, kInk);
-  x += common::text_width("on banks", scale) + 2 * pad;
+  common::draw_text(img, x, y, "stranded", scale, kInk);
+  x += common::text_width("stranded", scale) + pad;
   triangle(img, x + 5, y + (line - pad) / 2, 10, kWatch);
   x += 14;
   common::draw_text(img, x, y, "watch", scale, kInk);
-  x += common::text_width("watch", scale) + 3 * pad;
+  x += common::text_width("watch", scale) + pad;
   const Budget b = model.budget();
   if (b.released > 0) {
     char text[160];
@@ -108,7 +114,7 @@ namespace {
 constexpr double kClassFloor[] = {0.0, 0.1, 0.3, 0.6, 0.9};
 constexpr common::Rgb kClassColour[] = {
     {255, 237, 160}, {254, 178, 76}, {253, 110, 40}, {220, 30, 30}, {128, 0, 38}};
-constexpr const char* kClassLabel[] = {"<10%", "10-30%", "30-60%", "60-90%", ">=90%"};
+constexpr const char* kClassLabel[] = {"0-10", "10-30", "30-60", "60-90", "90-100%"};
 
 int probability_class(double p) {
   int k = 0;
@@ -137,18 +143,12 @@ common::RgbImage draw_probability_map(const ReachFlow& flow, const reach::Field&
       common::fill_rect(img, x0, y0, w, std::min(h, frame.height - y0),
                         kClassColour[probability_class(p)]);
     }
+  draw_watch_points(img, frame, points);
   const int scale = common::kAnnotationTextScale;
-  for (const WatchPoint& p : points) {
-    double px, py;
-    frame.to_pixel(p.x, p.y, px, py);
-    triangle(img, px, py, 12, kWatch);
-    if (py < frame.height - 10)
-      common::draw_text(img, int(px) + 9, int(py) - 6, p.name, scale, kWatch);
-  }
   const int pad = 8, line = common::kGlyphHeight * scale + pad;
   const int y = frame.band_top + pad + 2 * (line + pad / 2);
   int x = pad;
-  const std::string title = "oiled by now, of " + std::to_string(members) + " members:";
+  const std::string title = "oiled by now (" + std::to_string(members) + " members):";
   common::draw_text(img, x, y, title, scale, kInk);
   x += common::text_width(title, scale) + pad;
   for (int k = 0; k < 5; ++k) {

@@ -6,15 +6,21 @@
 
 namespace farfield {
 
+bool cell_holding(const reach::Grid& g, double x, double y, size_t& cell) {
+  const int i = int(std::floor((x - g.x0) / g.dx));
+  const int j = int(std::floor((y - g.y0) / g.dy));
+  if (i < 0 || j < 0 || i >= g.nx || j >= g.ny) return false;
+  cell = g.at(i, j);
+  return true;
+}
+
 reach::Field oiled_cells(const FarFieldModel& model, const reach::Grid& g) {
   reach::Field cover(g.cells(), 0.0);
   const Elements& el = model.elements();
   for (size_t e = 0; e < el.size(); ++e) {
     if (el.state[e] != ElementState::floating) continue;
-    const int i = int(std::floor((el.x[e] - g.x0) / g.dx));
-    const int j = int(std::floor((el.y[e] - g.y0) / g.dy));
-    if (i < 0 || j < 0 || i >= g.nx || j >= g.ny) continue;
-    cover[g.at(i, j)] += el.area[e];
+    size_t cell = 0;
+    if (cell_holding(g, el.x[e], el.y[e], cell)) cover[cell] += el.area[e];
   }
   for (double& c : cover) c = std::min(c, g.cell_area());
   return cover;
@@ -25,10 +31,8 @@ reach::Field oiled_volume(const FarFieldModel& model, const reach::Grid& g) {
   const Elements& el = model.elements();
   for (size_t e = 0; e < el.size(); ++e) {
     if (el.state[e] != ElementState::floating) continue;
-    const int i = int(std::floor((el.x[e] - g.x0) / g.dx));
-    const int j = int(std::floor((el.y[e] - g.y0) / g.dy));
-    if (i < 0 || j < 0 || i >= g.nx || j >= g.ny) continue;
-    volume[g.at(i, j)] += model.emulsion_volume(e);
+    size_t cell = 0;
+    if (cell_holding(g, el.x[e], el.y[e], cell)) volume[cell] += model.emulsion_volume(e);
   }
   return volume;
 }

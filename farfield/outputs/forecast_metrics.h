@@ -19,6 +19,9 @@ struct WatchPoint {
   double arrival_s = -1;  // first time oil came within the radius; < 0: not yet
 };
 
+// The cell of `grid` holding map point (x, y) (its index), or false outside the grid.
+bool cell_holding(const reach::Grid& grid, double x, double y, size_t& cell);
+
 // The floating oil's footprint on `grid`: each element's area spread over the cell it lies in,
 // a cell covered at most once (m^2 per cell).
 reach::Field oiled_cells(const FarFieldModel& model, const reach::Grid& grid);

@@ -20,7 +20,7 @@ namespace farfield {
 
 struct SlickSnapshot {
   double t_s = 0;
-  std::string clock;   // ISO 8601 UTC
+  std::string clock;    // ISO 8601 UTC
   reach::Field oiled;   // m^2 covered per cell of the grid
   reach::Field volume;  // m^3 of emulsion per cell (its film is volume / oiled thick)
 };

@@ -181,7 +181,9 @@ TEST_F(Forecast, WritesEveryOutputThatItsToolsRead) {
     EXPECT_GE(code, 1);
     EXPECT_LE(code, 5);
     EXPECT_FALSE(p["appearance"].get<std::string>().empty());
-    if (code < 5) EXPECT_LT(p["thickness_um_from"].get<double>(), p["thickness_um_to"].get<double>());
+    if (code < 5) {
+      EXPECT_LT(p["thickness_um_from"].get<double>(), p["thickness_um_to"].get<double>());
+    }
   }
 }
 
