@@ -86,6 +86,15 @@ void check_forecast_size(const ForecastConfig& c, const ReachFlow& flow, const C
             "): " + common::number_text(steps * substeps) + " in all, above /max_steps = " +
             common::number_text(c.max_steps) + ": check this value, or raise /max_steps to run it");
   }
+  // An ensemble does that work once per member.
+  if (c.ensemble && steps * substeps * c.ensemble->members > c.max_steps)
+    throw common::ConfigError(
+        file, "/ensemble/members",
+        common::number_text(c.ensemble->members) + " members of " +
+            common::number_text(steps * substeps) + " steps and sub-steps each are " +
+            common::number_text(steps * substeps * c.ensemble->members) +
+            " in all, above /max_steps = " + common::number_text(c.max_steps) +
+            ": fewer members, or raise /max_steps to run them");
   // Memory: the elements (the releases'; a near field's parcels come later) and a snapshot of
   // each at every output.
   double elements = 0;
@@ -99,6 +108,18 @@ void check_forecast_size(const ForecastConfig& c, const ReachFlow& flow, const C
             common::number_text(outputs) + " outputs need at least " +
             common::number_text(element_bytes / 1e9) + " GB, this process may use " +
             common::number_text(memory_bytes / 1e9) + " GB: fewer elements, or outputs less often");
+  // An ensemble's tally: a count per cell of the reach's grid at every output, and the
+  // probabilities made of them.
+  if (c.ensemble) {
+    const double tally_bytes = outputs * double(flow.grid().cells()) * 12;
+    if (tally_bytes > memory_bytes)
+      throw common::ConfigError(
+          file, "/ensemble",
+          "the members' tally of " + common::number_text(double(flow.grid().cells())) +
+              " cells at " + common::number_text(outputs) + " outputs needs " +
+              common::number_text(tally_bytes / 1e9) + " GB, this process may use " +
+              common::number_text(memory_bytes / 1e9) + " GB: outputs less often");
+  }
   // The bank bins, each with its holdings at every output.
   const double bins = std::ceil(line.length() / c.banks.bin_length) + 1;
   const double bin_bytes = bins * 2 * (64 + outputs * 16);

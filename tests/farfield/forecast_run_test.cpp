@@ -380,6 +380,10 @@ TEST_F(Forecast, AnEnsembleLeavesItsForecastAsItWasAndIsReproducible) {
   EXPECT_NE(m.find("/ensemble/members"), std::string::npos) << m;
   m = refusal({"/ensemble={\"oils\": [\"whale_oil\"]}"});
   EXPECT_NE(m.find("/ensemble/oils/0"), std::string::npos) << m;
+  // Members that would not end: each does the forecast's work again.
+  m = refusal({"/ensemble={\"members\": 10000}", "/max_steps=100000"});
+  EXPECT_NE(m.find("/ensemble/members"), std::string::npos) << m;
+  EXPECT_NE(m.find("/max_steps"), std::string::npos) << m;
 }
 
 // A symmetric case: a straight channel symmetric about its centreline, the release on it, a wind
