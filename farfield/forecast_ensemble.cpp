@@ -6,7 +6,10 @@
 #include <limits>
 
 #include "common/config_visitors.h"
+#include "common/exit_codes.h"
+#include "common/fnv1a.h"
 #include "common/image_writer.h"
+#include "common/json_file.h"
 #include "common/progress.h"
 #include "farfield/outputs/forecast_map.h"
 #include "reach/raster.h"
@@ -40,36 +43,93 @@ ForecastEnsemble::ForecastEnsemble(const ForecastSetup& setup, const ReachFlow& 
     draws_.push_back(draw_member(c, std::uint64_t(setup.config.seed), m));
 }
 
-void ForecastEnsemble::run_members(const std::vector<HandoverParcel>& parcels,
-                                   const std::atomic<bool>* stop, std::ostream* log,
-                                   bool terminal) {
+std::string forecast_digest(const ForecastConfig& config) {
+  common::Fnv1a hash;
+  hash.add(common::JsonWriter::write_struct(config).dump());
+  return hash.hex();
+}
+
+std::string shard_file_name(const common::ArrayTask& task) {
+  return "ensemble_shard_" + std::to_string(task.index) + "_of_" + std::to_string(task.count) +
+         ".json";
+}
+
+std::vector<int> ForecastEnsemble::run_members(const std::vector<HandoverParcel>& parcels,
+                                               const std::atomic<bool>* stop, std::ostream* log,
+                                               bool terminal, const common::ArrayTask& task) {
   const ForecastConfig& config = setup_.config;
   const StepPlan plan(config);
-  const int members = int(draws_.size());
-  common::ProgressReporter progress(log ? *log : std::cerr, terminal, members - 1, "ensemble");
-  for (int m = 1; m < members; ++m) {
-    const MemberDraw& d = draws_[size_t(m)];
+  std::vector<int> mine;
+  for (int m = 1; m < int(draws_.size()); ++m)
+    if ((m - 1) % task.count == task.index) mine.push_back(m);
+  common::ProgressReporter progress(log ? *log : std::cerr, terminal, long(mine.size()),
+                                    "ensemble");
+  for (size_t k = 0; k < mine.size(); ++k) {
+    const MemberDraw& d = draws_[size_t(mine[k])];
     FarFieldModel model(member_setup(setup_.model, d, setup_.ensemble_oils));
     std::vector<WatchPoint> points = setup_.watch_points;
     for (WatchPoint& p : points) p.arrival_s = -1;
     // The near field's oil as this member has it: more or less of it, later or sooner.
-    std::vector<HandoverParcel> mine = parcels;
-    for (HandoverParcel& p : mine) {
+    std::vector<HandoverParcel> parcels_of_member = parcels;
+    for (HandoverParcel& p : parcels_of_member) {
       p.volume *= d.volume_factor;
       p.t = std::max(0.0, p.t + d.start_shift_s);
     }
     tally_.begin_member();
     step_forecast(
-        model, config, mine, points,
-        [&](long k) {
+        model, config, parcels_of_member, points,
+        [&](long step) {
           tally_.after_step(model);
-          if (plan.is_output(k)) tally_.at_output(model);
+          if (plan.is_output(step)) tally_.at_output(model);
         },
         stop);
     tally_.end_member(points);
-    if (log) progress.update(m, "member " + std::to_string(m) + " of " + std::to_string(members));
+    if (log)
+      progress.update(long(k) + 1,
+                      "member " + std::to_string(mine[k]) + " of " + std::to_string(draws_.size()));
   }
-  if (log) progress.finish(std::to_string(members) + " members");
+  if (log) progress.finish(std::to_string(mine.size()) + " members");
+  return mine;
+}
+
+void ForecastEnsemble::add_shards(const std::filesystem::path& folder, const std::string& digest) {
+  namespace fs = std::filesystem;
+  if (!fs::is_directory(folder))
+    throw common::InputError("--members-from " + folder.string() + ": no such folder");
+  std::vector<int> seen(draws_.size(), 0);
+  std::vector<fs::path> files;
+  for (const auto& entry : fs::directory_iterator(folder)) {
+    const std::string name = entry.path().filename().string();
+    if (name.rfind("ensemble_shard_", 0) == 0 && entry.path().extension() == ".json")
+      files.push_back(entry.path());
+  }
+  std::sort(files.begin(), files.end());
+  for (const fs::path& file : files) {
+    const nlohmann::json shard = common::load_json_file(file.string(), "ensemble shard");
+    if (shard.value("config_digest", std::string()) != digest)
+      throw common::InputError(file.string() +
+                               ": a shard of another config (or of this one changed since): "
+                               "run its members again with this config");
+    for (const auto& m : shard.at("members_run")) {
+      const int member = m.get<int>();
+      if (member < 1 || member >= int(seen.size()) || seen[size_t(member)]++)
+        throw common::InputError(file.string() + ": member " + std::to_string(member) +
+                                 " is not the ensemble's or another shard ran it too");
+    }
+    try {
+      tally_.merge(shard.at("tally"));
+    } catch (const std::exception& e) {
+      throw common::InputError(file.string() + ": " + e.what());
+    }
+  }
+  std::string missing;
+  int count = 0;
+  for (size_t m = 1; m < seen.size(); ++m)
+    if (!seen[m] && ++count <= 10) missing += (missing.empty() ? "" : ", ") + std::to_string(m);
+  if (count > 0)
+    throw common::InputError("--members-from " + folder.string() + ": " + std::to_string(count) +
+                             " members no shard ran (" + missing + (count > 10 ? ", ..." : "") +
+                             "): run the shards that hold them");
 }
 
 nlohmann::json ForecastEnsemble::summary(const std::vector<double>& times,

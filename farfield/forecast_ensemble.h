@@ -18,6 +18,7 @@
 #include <string>
 #include <vector>
 
+#include "common/array_task.h"
 #include "farfield/ensemble/ensemble_member.h"
 #include "farfield/ensemble/ensemble_tally.h"
 #include "farfield/flows/reach_flow.h"
@@ -27,6 +28,13 @@
 
 namespace farfield {
 
+// A digest of a loaded config: the shards of an ensemble and the run that assembles them must
+// read the same one.
+std::string forecast_digest(const ForecastConfig& config);
+
+// The file a shard writes into its folder.
+std::string shard_file_name(const common::ArrayTask& task);
+
 class ForecastEnsemble {
  public:
   ForecastEnsemble(const ForecastSetup& setup, const ReachFlow& flow);
@@ -34,9 +42,16 @@ class ForecastEnsemble {
   // The tally member 0's run (the forecast) feeds as it steps.
   EnsembleTally& tally() { return tally_; }
 
-  // Runs members 1 to K-1 with the near field's parcels (each member's volume and start).
-  void run_members(const std::vector<HandoverParcel>& parcels, const std::atomic<bool>* stop,
-                   std::ostream* log, bool terminal);
+  // Runs members 1 to K-1 with the near field's parcels (each member's volume and start), or
+  // of them the shard `task` (members m with (m - 1) mod N = I); returns the members run.
+  std::vector<int> run_members(const std::vector<HandoverParcel>& parcels,
+                               const std::atomic<bool>* stop, std::ostream* log, bool terminal,
+                               const common::ArrayTask& task = {});
+
+  // Adds the members that shards ran elsewhere: every ensemble_shard_*.json in `folder`, each
+  // of this config (`digest`), together members 1 to K-1 once each. Throws common::InputError
+  // naming the file or the members missing.
+  void add_shards(const std::filesystem::path& folder, const std::string& digest);
 
   // forecast.json's "ensemble"; `times` are the output times (s), `clocks` their UTC.
   nlohmann::json summary(const std::vector<double>& times,

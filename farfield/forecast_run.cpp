@@ -2,6 +2,7 @@
 
 #include <chrono>
 #include <filesystem>
+#include <fstream>
 #include <iostream>
 #include <memory>
 #include <sstream>
@@ -16,6 +17,38 @@ namespace farfield {
 
 namespace fs = std::filesystem;
 
+namespace {
+
+// A shard of the ensemble's members: their tally in out_dir/ensemble_shard_I_of_N.json, written
+// to a temporary name and renamed, so that an assembling run never reads half a file.
+nlohmann::json run_shard(const ForecastRunOptions& o, const ForecastConfig& config,
+                         const ForecastSetup& setup) {
+  if (!config.ensemble)
+    throw ConfigError(o.config_file, "/ensemble",
+                      "--shard runs a share of an ensemble's members, but the config has no "
+                      "/ensemble");
+  const auto& flow = static_cast<const ReachFlow&>(*setup.model.flow);
+  ForecastEnsemble ensemble(setup, flow);
+  const std::vector<int> members =
+      ensemble.run_members(o.handover, o.stop, o.log, o.terminal, *o.shard);
+  nlohmann::json shard = {{"config_file", o.config_file},
+                          {"config_digest", forecast_digest(config)},
+                          {"shard", {o.shard->index, o.shard->count}},
+                          {"members_run", members}};
+  const fs::path folder = o.out_dir;
+  fs::create_directories(folder);
+  const fs::path file = folder / shard_file_name(*o.shard);
+  const fs::path partial = folder / (shard_file_name(*o.shard) + ".partial");
+  nlohmann::json content = shard;
+  content["tally"] = ensemble.tally().to_json();
+  std::ofstream(partial) << content.dump() << "\n";
+  fs::rename(partial, file);
+  shard["file"] = file.string();
+  return shard;
+}
+
+}  // namespace
+
 nlohmann::json run_forecast(const ForecastRunOptions& o) {
   ForecastRunFacts facts;
   facts.wall_start = std::chrono::steady_clock::now();
@@ -29,6 +62,11 @@ nlohmann::json run_forecast(const ForecastRunOptions& o) {
     throw ConfigError(o.config_file, "/near_field",
                       "no oil was handed over from the near field (run it with spill-sim "
                       "forecast, which runs the near field first)");
+  if (o.shard) return run_shard(o, config, setup);
+  if (!o.members_from.empty() && !config.ensemble)
+    throw ConfigError(o.config_file, "/ensemble",
+                      "--members-from assembles an ensemble's members, but the config has no "
+                      "/ensemble");
   common::OutputFolderPolicy policy;
   policy.markers = {"forecast.json"};
   policy.replace = o.force;
@@ -70,7 +108,10 @@ nlohmann::json run_forecast(const ForecastRunOptions& o) {
   ShoreProbability shore;
   if (ensemble) {
     ensemble->tally().end_member(points);
-    ensemble->run_members(o.handover, o.stop, o.log, o.terminal);
+    if (o.members_from.empty())
+      ensemble->run_members(o.handover, o.stop, o.log, o.terminal);
+    else
+      ensemble->add_shards(o.members_from, forecast_digest(config));
     const std::vector<double> times = recorder.output_times();
     const std::vector<std::string> clocks = recorder.output_clocks();
     facts.ensemble = ensemble->summary(times, clocks);

@@ -11,13 +11,16 @@
 // and with an `/ensemble` section, its members' probabilities (forecast_ensemble.h):
 //   probability.tif    per output time, the share of members that oiled each cell by then
 //   png/probability.png  the last of those over the reach's map
+// Its members can run as a job array's shards (`shard`), assembled by `members_from`.
 
 #include <atomic>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <ostream>
 #include <string>
 #include <vector>
 
+#include "common/array_task.h"
 #include "farfield/forecast_setup.h"
 #include "farfield/forecast_steps.h"
 
@@ -36,9 +39,15 @@ struct ForecastRunOptions {
   std::ostream* log = nullptr;
   bool terminal = false;
   int threads = 1;
+  // An ensemble over a job array: with `shard`, run only that shard's members and write their
+  // tally to out_dir/ensemble_shard_I_of_N.json (nothing else); with `members_from`, run the
+  // forecast and take the members from the shards' files in that folder instead of running them.
+  std::optional<common::ArrayTask> shard;
+  std::string members_from;
 };
 
-// Runs and writes the folder; returns forecast.json's content.
+// Runs and writes the folder; returns forecast.json's content (a shard: what its file holds but
+// the tally).
 nlohmann::json run_forecast(const ForecastRunOptions& options);
 
 }  // namespace farfield

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 
 namespace farfield {
 
@@ -76,6 +77,72 @@ std::vector<double> EnsembleTally::bank_offset() const {
   for (size_t b = 0; b < offset.size(); ++b)
     if (bin_offset_count_[b] > 0) offset[b] = bin_offset_sum_[b] / bin_offset_count_[b];
   return offset;
+}
+
+namespace {
+// Budget <-> [released, floating, stranded, evaporated, dispersed, left_reach].
+nlohmann::json budget_json(const Budget& b) {
+  return {b.released, b.floating, b.stranded, b.evaporated, b.dispersed, b.left_reach};
+}
+Budget budget_from(const nlohmann::json& j) {
+  Budget b;
+  b.released = j.at(0);
+  b.floating = j.at(1);
+  b.stranded = j.at(2);
+  b.evaporated = j.at(3);
+  b.dispersed = j.at(4);
+  b.left_reach = j.at(5);
+  return b;
+}
+}  // namespace
+
+nlohmann::json EnsembleTally::to_json() const {
+  nlohmann::json cells = nlohmann::json::array();
+  for (const auto& count : cell_count_) {
+    nlohmann::json pairs = nlohmann::json::array();
+    for (size_t c = 0; c < count.size(); ++c)
+      if (count[c] > 0) pairs.push_back({c, count[c]});
+    cells.push_back(pairs);
+  }
+  nlohmann::json bins = nlohmann::json::array();
+  for (size_t b = 0; b < bin_count_.size(); ++b)
+    if (bin_count_[b] > 0 || bin_offset_count_[b] > 0)
+      bins.push_back({b, bin_count_[b], bin_offset_sum_[b], bin_offset_count_[b]});
+  nlohmann::json budgets = nlohmann::json::array();
+  for (const auto& at_output : budgets_) {
+    nlohmann::json members = nlohmann::json::array();
+    for (const Budget& b : at_output) members.push_back(budget_json(b));
+    budgets.push_back(members);
+  }
+  return {{"members", members_},       {"grid", {grid_.nx, grid_.ny}},
+          {"bins", bin_count_.size()}, {"outputs", outputs_},
+          {"cell_counts", cells},      {"bin_counts", bins},
+          {"arrivals", arrivals_},     {"budgets", budgets}};
+}
+
+void EnsembleTally::merge(const nlohmann::json& j) {
+  if (j.at("grid") != nlohmann::json{grid_.nx, grid_.ny} || j.at("bins") != bin_count_.size() ||
+      j.at("outputs") != outputs_ || j.at("arrivals").size() != arrivals_.size())
+    throw std::invalid_argument(
+        "its grid, bank bins, output times or watch points are not this forecast's");
+  for (size_t k = 0; k < outputs_; ++k)
+    for (const auto& pair : j.at("cell_counts").at(k)) {
+      const size_t c = pair.at(0);
+      if (c >= cell_count_[k].size()) throw std::invalid_argument("a cell outside the grid");
+      cell_count_[k][c] += pair.at(1).get<std::uint32_t>();
+    }
+  for (const auto& bin : j.at("bin_counts")) {
+    const size_t b = bin.at(0);
+    if (b >= bin_count_.size()) throw std::invalid_argument("a bank bin outside the banks");
+    bin_count_[b] += bin.at(1).get<std::uint32_t>();
+    bin_offset_sum_[b] += bin.at(2).get<double>();
+    bin_offset_count_[b] += bin.at(3).get<double>();
+  }
+  for (size_t p = 0; p < arrivals_.size(); ++p)
+    for (const auto& a : j.at("arrivals").at(p)) arrivals_[p].push_back(a.get<double>());
+  for (size_t k = 0; k < outputs_; ++k)
+    for (const auto& b : j.at("budgets").at(k)) budgets_[k].push_back(budget_from(b));
+  members_ += j.at("members").get<int>();
 }
 
 double quantile(std::vector<double> values, double q) {

@@ -27,6 +27,13 @@ class EnsembleTally {
   void end_member(const std::vector<WatchPoint>& points);
 
   int members() const { return members_; }
+
+  // What the tally holds, as JSON (counts as [index, count] pairs of the cells and bins some
+  // member oiled), for a shard of an ensemble run elsewhere; merge() adds such a tally of other
+  // members to this one, throwing std::invalid_argument when its grid, bins, outputs or watch
+  // points are not this one's.
+  nlohmann::json to_json() const;
+  void merge(const nlohmann::json& other);
   // The share of members whose oil was in each cell at some time up to output k.
   reach::Field cell_probability(size_t k) const;
   // The share of members that stranded oil on each bank bin, by the end.

@@ -1,4 +1,5 @@
 // spill-sim forecast --config FILE --out DIR [--set /pointer=value ...] [--threads N] [--force]
+//                    [--shard I/N | --members-from SHARDS_DIR]
 // spill-sim forecast-doc
 // spill-sim forecast-bench [--elements N ...] [--hours H] [--step S] [--threads T]
 // The far field: oil released on a finished reach run's flow, drifting, spreading, weathering
@@ -12,6 +13,7 @@
 #include <iostream>
 #include <memory>
 
+#include "common/array_task.h"
 #include "common/command_line.h"
 #include "common/exit_codes.h"
 #include "farfield/far_field_benchmark.h"
@@ -27,6 +29,7 @@ namespace sim {
 namespace {
 struct ForecastCommandOptions {
   farfield::ForecastRunOptions run;
+  std::string shard;
   int threads = 0;
   bool no_pictures = false;
 };
@@ -47,6 +50,11 @@ Command add_forecast_command(CLI::App& app, const CommandContext& context) {
   c->add_flag("--force", o->run.force,
               "Replace an earlier forecast folder (only one of ours; removed after the new run)");
   c->add_flag("--no-pictures", o->no_pictures, "Write no maps and no video");
+  c->add_option("--shard", o->shard,
+                "Run only shard I of N of the ensemble's members (m - 1 mod N = I) into --out's "
+                "ensemble_shard_I_of_N.json; default: the Slurm array task, if any");
+  c->add_option("--members-from", o->run.members_from,
+                "Take the ensemble's members from the shards' files in this folder");
   c->footer(
       "Exit code: 0 on success; 1 when the run failed; 2 for bad input (a config key, an unknown "
       "oil, a negative rate, a release or watch point outside the reach, a series that does not "
@@ -60,6 +68,10 @@ Command add_forecast_command(CLI::App& app, const CommandContext& context) {
             run.log = &std::cerr;
             run.terminal = isatty(STDERR_FILENO) != 0;
             run.pictures = !o->no_pictures;
+            if (!o->shard.empty())
+              run.shard = common::parse_array_task(o->shard, "--shard");
+            else
+              run.shard = common::slurm_array_task();
             // A near field first: its oil becomes the far field's as it leaves the box.
             const farfield::ForecastConfig config =
                 farfield::load_forecast_config(run.config_file, run.overrides);
@@ -75,6 +87,13 @@ Command add_forecast_command(CLI::App& app, const CommandContext& context) {
               run.handover_summary = near.summary;
             }
             const nlohmann::json summary = farfield::run_forecast(run);
+            if (run.shard) {
+              std::cout << "shard " << run.shard->index << "/" << run.shard->count << ": ran "
+                        << summary["members_run"].size() << " members into " << summary["file"]
+                        << " (then, with the same --config and --set: spill-sim forecast --config "
+                        << run.config_file << " --members-from " << run.out_dir << " --out DIR)\n";
+              return 0;
+            }
             if (run.pictures) sph::encode_animation(run.out_dir, "map", 0, 4, &std::cerr);
             // A Ctrl-C while ffmpeg ran stopped it (its partial video removed): the folder is
             // whole but for the video, and the exit says it was interrupted.

@@ -5,10 +5,11 @@
 // A shard defaults to a Slurm job array's task (SLURM_ARRAY_TASK_ID less SLURM_ARRAY_TASK_MIN,
 // of SLURM_ARRAY_TASK_COUNT), so an array job needs no --shard.
 
-#include <cstdlib>
 #include <iostream>
 #include <memory>
+#include <optional>
 
+#include "common/array_task.h"
 #include "common/command_line.h"
 #include "common/output_folder.h"
 #include "sim/commands/command.h"
@@ -29,25 +30,9 @@ struct GenerateCommandOptions {
 // --shard, else the Slurm array task this process is, else the whole request.
 sph::GenerationShard shard_of(const std::string& option) {
   if (!option.empty()) return sph::parse_shard(option);
-  const char* id = std::getenv("SLURM_ARRAY_TASK_ID");
-  const char* count = std::getenv("SLURM_ARRAY_TASK_COUNT");
-  if (!id || !count) return {};
-  const char* min = std::getenv("SLURM_ARRAY_TASK_MIN");
-  auto number = [](const char* name, const char* text) {
-    char* end = nullptr;
-    const long v = std::strtol(text, &end, 10);
-    if (*text == '\0' || *end != '\0')
-      throw common::InputError(std::string(name) + "=" + text + ": not a whole number");
-    return v;
-  };
-  const long index =
-      number("SLURM_ARRAY_TASK_ID", id) - (min ? number("SLURM_ARRAY_TASK_MIN", min) : 0);
-  const long n = number("SLURM_ARRAY_TASK_COUNT", count);
-  if (index < 0 || index >= n)
-    throw common::InputError("SLURM_ARRAY_TASK_ID=" + std::string(id) +
-                             ": not a task of an array of " + count + " (give --array=0-" +
-                             std::to_string(n - 1) + ", or --shard I/N)");
-  return {int(index), int(n), false};
+  const std::optional<common::ArrayTask> task = common::slurm_array_task();
+  if (!task) return {};
+  return {task->index, task->count, false};
 }
 }  // namespace
 

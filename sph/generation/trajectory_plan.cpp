@@ -7,6 +7,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "common/array_task.h"
 #include "common/exit_codes.h"
 
 namespace sph {
@@ -75,14 +76,8 @@ std::array<double, 3> parse_split(const std::string& text) {
 }
 
 GenerationShard parse_shard(const std::string& text) {
-  GenerationShard shard;
-  char slash = 0;
-  std::istringstream in(text);
-  if (!(in >> shard.index >> slash >> shard.count) || slash != '/' || !in.eof() ||
-      shard.count < 1 || shard.index < 0 || shard.index >= shard.count)
-    throw common::InputError("--shard " + text +
-                             ": expected I/N, the shard I of N with 0 <= I < N (e.g. 0/4)");
-  return shard;
+  const common::ArrayTask task = common::parse_array_task(text, "--shard");
+  return {task.index, task.count, false};
 }
 
 std::array<int, 3> split_counts(int total, const std::array<double, 3>& f) {

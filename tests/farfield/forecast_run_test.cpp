@@ -386,6 +386,58 @@ TEST_F(Forecast, AnEnsembleLeavesItsForecastAsItWasAndIsReproducible) {
   EXPECT_NE(m.find("/max_steps"), std::string::npos) << m;
 }
 
+// An ensemble over a job array: three shards of its members, each into its own file, then a run
+// that takes the members from their files gives the ensemble a single process gives; a missing
+// shard or a shard of another config is refused, naming it.
+TEST_F(Forecast, AnEnsembleRunAsShardsIsTheEnsembleOfOneProcess) {
+  const std::vector<std::string> ensemble = {"/ensemble={\"members\": 7, \"seed\": 5}"};
+  const nlohmann::json one = run(config(), "one_process", ensemble);
+  const auto options = [&](const std::string& out) {
+    farfield::ForecastRunOptions o;
+    o.config_file = (dir_ / "forecast.json").string();
+    o.overrides = ensemble;
+    o.out_dir = (dir_ / out).string();
+    return o;
+  };
+  for (int i = 0; i < 3; ++i) {
+    farfield::ForecastRunOptions o = options("shards");
+    o.shard = common::ArrayTask{i, 3};
+    const nlohmann::json shard = farfield::run_forecast(o);
+    EXPECT_EQ(shard["members_run"].size(), 2u);  // members 1-6, two each
+  }
+  EXPECT_FALSE(fs::exists(dir_ / "shards" / "forecast.json"));  // a shard writes only its file
+  farfield::ForecastRunOptions assemble = options("assembled");
+  assemble.members_from = (dir_ / "shards").string();
+  const nlohmann::json assembled = farfield::run_forecast(assemble);
+  EXPECT_EQ(assembled["ensemble"], one["ensemble"]);
+  EXPECT_EQ(assembled["outputs"], one["outputs"]);
+
+  // Shard 2 of 3 missing: its members are named, nothing is written.
+  fs::rename(dir_ / "shards" / "ensemble_shard_2_of_3.json", dir_ / "shard_2.json");
+  assemble.out_dir = (dir_ / "refused_assembly").string();
+  try {
+    farfield::run_forecast(assemble);
+    ADD_FAILURE() << "an assembly with a shard missing ran";
+  } catch (const common::InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("2 members no shard ran (3, 6)"), std::string::npos)
+        << e.what();
+  }
+  EXPECT_FALSE(fs::exists(dir_ / "refused_assembly"));
+  // A shard of another ensemble seed: another config.
+  farfield::ForecastRunOptions other = options("shards");
+  other.overrides = {"/ensemble={\"members\": 7, \"seed\": 6}"};
+  other.shard = common::ArrayTask{2, 3};
+  farfield::run_forecast(other);
+  try {
+    farfield::run_forecast(assemble);
+    ADD_FAILURE() << "a shard of another config was taken";
+  } catch (const common::InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("ensemble_shard_2_of_3.json: a shard of another config"),
+              std::string::npos)
+        << e.what();
+  }
+}
+
 // A symmetric case: a straight channel symmetric about its centreline, the release on it, a wind
 // along it whose direction the members turn either way alike. The probability of oiling is then
 // symmetric about the centreline, within the sampling noise of 100 members.
