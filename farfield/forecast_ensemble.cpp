@@ -31,12 +31,27 @@ nlohmann::json arrival_quantile(std::vector<double> arrivals, double q) {
   return std::isfinite(a) ? nlohmann::json(a) : nlohmann::json();
 }
 
+// Whole kilometres of a bank's bins (with one to spare).
+int kilometres_per_side(const Banks& banks) {
+  return int(std::ceil(banks.bins_per_side() * banks.bin_length() / 1000)) + 1;
+}
+
+// Each bank bin's kilometre of its bank: the right bank's whole kilometres first, then the left's.
+std::vector<int> bank_kilometres(const Banks& banks) {
+  const int per_side = kilometres_per_side(banks);
+  std::vector<int> group(size_t(banks.bins()));
+  for (int b = 0; b < banks.bins(); ++b)
+    group[size_t(b)] = (banks.side_of(b) == BankSide::left ? per_side : 0) +
+                       int(std::floor(banks.bin_start(b) / 1000));
+  return group;
+}
+
 }  // namespace
 
 ForecastEnsemble::ForecastEnsemble(const ForecastSetup& setup, const ReachFlow& flow)
     : setup_(setup),
       flow_(flow),
-      tally_(flow.grid(), setup.model.banks.bins(), StepPlan(setup.config).outputs(),
+      tally_(flow.grid(), bank_kilometres(setup.model.banks), StepPlan(setup.config).outputs(),
              setup.watch_points.size()) {
   const EnsembleConfig& c = *setup.config.ensemble;
   for (int m = 0; m < c.members; ++m)
@@ -151,6 +166,19 @@ nlohmann::json ForecastEnsemble::summary(const std::vector<double>& times,
                     {"probability", bank_p[size_t(bin)]}});
   }
 
+  // Per whole kilometre of each bank some member oiled: the share of members that oiled it.
+  const std::vector<double> km_p = tally_.group_probability();
+  const int per_side = kilometres_per_side(banks);
+  nlohmann::json bank_km = nlohmann::json::array();
+  for (size_t g = 0; g < km_p.size(); ++g) {
+    if (!(km_p[g] > 0)) continue;
+    const int km = int(g) % per_side;
+    bank_km.push_back({{"bank", int(g) >= per_side ? "left" : "right"},
+                       {"km_from", km},
+                       {"km_to", std::min(double(km + 1), length / 1000)},
+                       {"probability", km_p[g]}});
+  }
+
   nlohmann::json watch = nlohmann::json::array();
   for (size_t p = 0; p < setup_.watch_points.size(); ++p) {
     const std::vector<double>& arrivals = tally_.arrivals()[p];
@@ -194,6 +222,7 @@ nlohmann::json ForecastEnsemble::summary(const std::vector<double>& times,
           {"config", common::JsonWriter::write_struct(c)},
           {"draws", draws},
           {"bank_oiling_probability", bank},
+          {"bank_km_oiling_probability", bank_km},
           {"watch_points", watch},
           {"budget_fraction_quantiles", budgets},
           {"files", {"probability.tif", "png/probability.png"}},

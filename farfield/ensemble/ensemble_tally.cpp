@@ -6,16 +6,21 @@
 
 namespace farfield {
 
-EnsembleTally::EnsembleTally(const reach::Grid& grid, int bank_bins, size_t outputs,
+EnsembleTally::EnsembleTally(const reach::Grid& grid, std::vector<int> bank_group, size_t outputs,
                              size_t watch_points)
     : grid_(grid),
       outputs_(outputs),
       cell_seen_(grid.cells(), 0),
-      bin_seen_(size_t(bank_bins), 0),
+      bin_seen_(bank_group.size(), 0),
       cell_count_(outputs, std::vector<std::uint32_t>(grid.cells(), 0)),
-      bin_count_(size_t(bank_bins), 0),
-      bin_offset_sum_(size_t(bank_bins), 0.0),
-      bin_offset_count_(size_t(bank_bins), 0.0),
+      bin_count_(bank_group.size(), 0),
+      bank_group_(std::move(bank_group)),
+      group_count_(bank_group_.empty()
+                       ? 0
+                       : size_t(*std::max_element(bank_group_.begin(), bank_group_.end())) + 1,
+                   0),
+      bin_offset_sum_(bank_group_.size(), 0.0),
+      bin_offset_count_(bank_group_.size(), 0.0),
       arrivals_(watch_points),
       budgets_(outputs) {}
 
@@ -52,7 +57,12 @@ void EnsembleTally::at_output(const FarFieldModel& model) {
 }
 
 void EnsembleTally::end_member(const std::vector<WatchPoint>& points) {
-  for (size_t b = 0; b < bin_count_.size(); ++b) bin_count_[b] += bin_seen_[b];
+  std::vector<std::uint8_t> group_seen(group_count_.size(), 0);
+  for (size_t b = 0; b < bin_count_.size(); ++b) {
+    bin_count_[b] += bin_seen_[b];
+    if (bin_seen_[b]) group_seen[size_t(bank_group_[b])] = 1;
+  }
+  for (size_t g = 0; g < group_count_.size(); ++g) group_count_[g] += group_seen[g];
   for (size_t p = 0; p < points.size() && p < arrivals_.size(); ++p)
     arrivals_[p].push_back(points[p].arrival_s);
   ++members_;
@@ -69,6 +79,13 @@ std::vector<double> EnsembleTally::bank_probability() const {
   std::vector<double> p(bin_count_.size(), 0.0);
   if (members_ == 0) return p;
   for (size_t b = 0; b < p.size(); ++b) p[b] = double(bin_count_[b]) / members_;
+  return p;
+}
+
+std::vector<double> EnsembleTally::group_probability() const {
+  std::vector<double> p(group_count_.size(), 0.0);
+  if (members_ == 0) return p;
+  for (size_t g = 0; g < p.size(); ++g) p[g] = double(group_count_[g]) / members_;
   return p;
 }
 
@@ -114,10 +131,12 @@ nlohmann::json EnsembleTally::to_json() const {
     for (const Budget& b : at_output) members.push_back(budget_json(b));
     budgets.push_back(members);
   }
-  return {{"members", members_},       {"grid", {grid_.nx, grid_.ny}},
-          {"bins", bin_count_.size()}, {"outputs", outputs_},
-          {"cell_counts", cells},      {"bin_counts", bins},
-          {"arrivals", arrivals_},     {"budgets", budgets}};
+  nlohmann::json groups = nlohmann::json::array();
+  for (size_t g = 0; g < group_count_.size(); ++g)
+    if (group_count_[g] > 0) groups.push_back({g, group_count_[g]});
+  return {{"members", members_},       {"group_counts", groups}, {"grid", {grid_.nx, grid_.ny}},
+          {"bins", bin_count_.size()}, {"outputs", outputs_},    {"cell_counts", cells},
+          {"bin_counts", bins},        {"arrivals", arrivals_},  {"budgets", budgets}};
 }
 
 void EnsembleTally::merge(const nlohmann::json& j) {
@@ -137,6 +156,11 @@ void EnsembleTally::merge(const nlohmann::json& j) {
     bin_count_[b] += bin.at(1).get<std::uint32_t>();
     bin_offset_sum_[b] += bin.at(2).get<double>();
     bin_offset_count_[b] += bin.at(3).get<double>();
+  }
+  for (const auto& group : j.at("group_counts")) {
+    const size_t g = group.at(0);
+    if (g >= group_count_.size()) throw std::invalid_argument("a bank group outside the banks");
+    group_count_[g] += group.at(1).get<std::uint32_t>();
   }
   for (size_t p = 0; p < arrivals_.size(); ++p)
     for (const auto& a : j.at("arrivals").at(p)) arrivals_[p].push_back(a.get<double>());

@@ -17,7 +17,10 @@ namespace farfield {
 
 class EnsembleTally {
  public:
-  EnsembleTally(const reach::Grid& grid, int bank_bins, size_t outputs, size_t watch_points);
+  // `bank_group` gives each bank bin's group (a bank's kilometre), counted as oiled when any of
+  // its bins is.
+  EnsembleTally(const reach::Grid& grid, std::vector<int> bank_group, size_t outputs,
+                size_t watch_points);
 
   // One member: begin, after_step after each of its steps, at_output at each of its output
   // times (the forecast's, in order), end with its watch points' arrivals.
@@ -38,6 +41,8 @@ class EnsembleTally {
   reach::Field cell_probability(size_t k) const;
   // The share of members that stranded oil on each bank bin, by the end.
   std::vector<double> bank_probability() const;
+  // The share of members that stranded oil anywhere in each bank group, by the end.
+  std::vector<double> group_probability() const;
   // The mean offset from the centreline (m) of the oil stranded on each bin at the members'
   // output times (0 where none was).
   std::vector<double> bank_offset() const;
@@ -55,6 +60,8 @@ class EnsembleTally {
   std::vector<std::uint8_t> bin_seen_;                  // and bank bins
   std::vector<std::vector<std::uint32_t>> cell_count_;  // [output][cell] members
   std::vector<std::uint32_t> bin_count_;
+  std::vector<int> bank_group_;
+  std::vector<std::uint32_t> group_count_;
   std::vector<double> bin_offset_sum_, bin_offset_count_;
   std::vector<std::vector<double>> arrivals_;
   std::vector<std::vector<Budget>> budgets_;

@@ -374,6 +374,18 @@ TEST_F(Forecast, AnEnsembleLeavesItsForecastAsItWasAndIsReproducible) {
       EXPECT_LE(f["properties"]["oiling_probability"].get<double>(), 1);
     }
   EXPECT_TRUE(probability_line);
+  // Per whole kilometre of a bank: at least the largest share of any of its bins.
+  for (const auto& km : e["bank_km_oiling_probability"]) {
+    double most = 0;
+    for (const auto& bin : e["bank_oiling_probability"])
+      if (bin["bank"] == km["bank"] &&
+          bin["km_from"].get<double>() >= km["km_from"].get<double>() &&
+          bin["km_from"].get<double>() < km["km_to"].get<double>())
+        most = std::max(most, bin["probability"].get<double>());
+    EXPECT_GE(km["probability"].get<double>(), most - 1e-12) << km;
+    EXPECT_GT(km["probability"].get<double>(), 0) << km;
+  }
+  EXPECT_FALSE(e["bank_km_oiling_probability"].empty());
 
   // Bad ensemble input is refused naming its key.
   std::string m = refusal({"/ensemble={\"members\": 1}"});
