@@ -31,18 +31,19 @@ nlohmann::json arrival_quantile(std::vector<double> arrivals, double q) {
   return std::isfinite(a) ? nlohmann::json(a) : nlohmann::json();
 }
 
-// Whole kilometres of a bank's bins (with one to spare).
-int kilometres_per_side(const Banks& banks) {
-  return int(std::ceil(banks.bins_per_side() * banks.bin_length() / 1000)) + 1;
+// Whole kilometres of a bank along the centreline (with one to spare for what lies beyond it).
+int kilometres_per_side(const Centreline& line) {
+  return int(std::ceil(line.length() / 1000)) + 1;
 }
 
-// Each bank bin's kilometre of its bank: the right bank's whole kilometres first, then the left's.
-std::vector<int> bank_kilometres(const Banks& banks) {
-  const int per_side = kilometres_per_side(banks);
+// Each bank bin's kilometre of its bank, the right bank's first, then the left's; a bin beyond
+// the centreline's end counts in its last kilometre.
+std::vector<int> bank_kilometres(const Banks& banks, const Centreline& line) {
+  const int per_side = kilometres_per_side(line);
   std::vector<int> group(size_t(banks.bins()));
   for (int b = 0; b < banks.bins(); ++b)
     group[size_t(b)] = (banks.side_of(b) == BankSide::left ? per_side : 0) +
-                       int(std::floor(banks.bin_start(b) / 1000));
+                       int(std::floor(std::min(banks.bin_start(b), line.length()) / 1000));
   return group;
 }
 
@@ -51,8 +52,8 @@ std::vector<int> bank_kilometres(const Banks& banks) {
 ForecastEnsemble::ForecastEnsemble(const ForecastSetup& setup, const ReachFlow& flow)
     : setup_(setup),
       flow_(flow),
-      tally_(flow.grid(), bank_kilometres(setup.model.banks), StepPlan(setup.config).outputs(),
-             setup.watch_points.size()) {
+      tally_(flow.grid(), bank_kilometres(setup.model.banks, setup.model.centreline),
+             StepPlan(setup.config).outputs(), setup.watch_points.size()) {
   const EnsembleConfig& c = *setup.config.ensemble;
   for (int m = 0; m < c.members; ++m)
     draws_.push_back(draw_member(c, std::uint64_t(setup.config.seed), m));
@@ -168,7 +169,7 @@ nlohmann::json ForecastEnsemble::summary(const std::vector<double>& times,
 
   // Per whole kilometre of each bank some member oiled: the share of members that oiled it.
   const std::vector<double> km_p = tally_.group_probability();
-  const int per_side = kilometres_per_side(banks);
+  const int per_side = kilometres_per_side(setup_.model.centreline);
   nlohmann::json bank_km = nlohmann::json::array();
   for (size_t g = 0; g < km_p.size(); ++g) {
     if (!(km_p[g] > 0)) continue;
