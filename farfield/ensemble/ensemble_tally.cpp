@@ -42,7 +42,6 @@ void EnsembleTally::after_step(const FarFieldModel& model) {
 
 void EnsembleTally::at_output(const FarFieldModel& model) {
   if (output_ >= outputs_) return;
-  after_step(model);  // the oil at time 0 too
   std::vector<std::uint32_t>& count = cell_count_[output_];
   for (size_t c = 0; c < count.size(); ++c) count[c] += cell_seen_[c];
   budgets_[output_].push_back(model.budget());

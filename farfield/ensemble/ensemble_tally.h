@@ -22,8 +22,9 @@ class EnsembleTally {
   EnsembleTally(const reach::Grid& grid, std::vector<int> bank_group, size_t outputs,
                 size_t watch_points);
 
-  // One member: begin, after_step after each of its steps, at_output at each of its output
-  // times (the forecast's, in order), end with its watch points' arrivals.
+  // One member: begin, after_step after each of its steps (and before the first), then
+  // at_output at each of its output times (the forecast's, in order, time 0 among them), end
+  // with its watch points' arrivals.
   void begin_member();
   void after_step(const FarFieldModel& model);
   void at_output(const FarFieldModel& model);

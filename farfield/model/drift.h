@@ -85,7 +85,6 @@ using BankFull = std::function<bool(double x, double y)>;
 DriftResult drift_element(const SurfaceFlow& flow, const DriftSettings& settings, const Wind& wind,
                           bool ice, double grid_cell, double min_depth, double t, double dt,
                           std::uint64_t step, std::uint64_t element, double x, double y,
-                          const BankFull& bank_full = {}, double spread_x = 0,
-                          double spread_y = 0);
+                          const BankFull& bank_full = {}, double spread_x = 0, double spread_y = 0);
 
 }  // namespace farfield
