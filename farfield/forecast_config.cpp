@@ -32,7 +32,10 @@ ForecastConfig load_forecast_config(const std::string& file,
   resolve(c.environment.wind_from.file);
   if (c.environment.wave_height) resolve(c.environment.wave_height->file);
   if (c.oil.name.find('/') != std::string::npos) resolve(c.oil.name);
-  if (c.near_field) resolve(c.near_field->scene);
+  if (c.near_field) {
+    resolve(c.near_field->scene);
+    resolve(c.near_field->run);
+  }
   if (c.ensemble)
     for (auto& oil : c.ensemble->oils)
       if (oil.find('/') != std::string::npos) resolve(oil);

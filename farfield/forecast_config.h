@@ -193,6 +193,7 @@ struct OilChoice {
 // The SPH near field whose oil the far field takes over (`spill-sim forecast` runs it first).
 struct NearFieldConfig {
   std::string scene;
+  std::string run;
   std::vector<std::string> set;
   int elements_per_parcel = 20;
   template <class V>
@@ -200,11 +201,24 @@ struct NearFieldConfig {
     v.field("scene", scene,
             param("",
                   "A near-field scene inside this reach run (terrain source reach, with a leak), "
-                  "relative to the config's folder")
-                .require());
+                  "run before the far field; relative to the config's folder. Give this or run"));
+    v.field("run", run,
+            param("",
+                  "A finished near-field run folder inside this reach run (of spill-sim run, or "
+                  "of spill-infer predict: a learned near field), handed over as a scene's is; "
+                  "relative to the config's folder. Give this or scene"));
     v.field("set", set, param("", "Overrides of the scene's values, \"/pointer=value\" each"));
     v.field("elements_per_parcel", elements_per_parcel,
             param("", "Far-field elements each handed-over parcel of oil becomes").at_least(1));
+  }
+  void check(const std::string& file, const std::string& pointer) const {
+    if (scene.empty() == run.empty())
+      throw ConfigError(file, pointer + (scene.empty() ? "/scene" : "/run"),
+                        "expected either a scene to run or a finished run folder, not " +
+                            std::string(scene.empty() ? "neither" : "both"));
+    if (!run.empty() && !set.empty())
+      throw ConfigError(file, pointer + "/set",
+                        "overrides a scene's values, but a finished run's are what it ran with");
   }
 };
 

@@ -79,10 +79,16 @@ Command add_forecast_command(CLI::App& app, const CommandContext& context) {
               // The far field's own input first, so that a bad key is said before the near
               // field's minutes of SPH, not after.
               farfield::build_forecast(config, run.config_file);
-              const sph::NearFieldHandover near = sph::run_near_field_handover(
-                  config.near_field->scene, config.near_field->set,
-                  {config.flow.reach_run, run.config_file, "/near_field/scene"}, run.stop, run.log,
-                  run.terminal);
+              const farfield::NearFieldConfig& n = *config.near_field;
+              const sph::NearFieldHandover near =
+                  n.run.empty()
+                      ? sph::run_near_field_handover(
+                            n.scene, n.set,
+                            {config.flow.reach_run, run.config_file, "/near_field/scene"}, run.stop,
+                            run.log, run.terminal)
+                      : sph::near_field_handover_from_run(
+                            n.run, {config.flow.reach_run, run.config_file, "/near_field/run"},
+                            run.log, run.terminal);
               run.handover = sim::far_field_parcels(near.parcels);
               run.handover_summary = near.summary;
             }

@@ -5,7 +5,10 @@
 #include <iostream>
 
 #include "common/config_error.h"
+#include "common/json_file.h"
 #include "common/progress.h"
+#include "sph/core/config.h"
+#include "sph/io/trajectory_reader.h"
 #include "sph/scene/scene_loader.h"
 #include "sph/simulation/frame_loop.h"
 #include "sph/simulation/simulation.h"
@@ -53,33 +56,69 @@ double scheduled_leak_volume(const SceneConfig& c) {
   return leaked;
 }
 
-// Where each particle was when last active, so that oil retired since (at the outflow or over a
-// terrain edge) is handed over where it left the box.
-struct LastActive {
-  std::vector<char> active;
-  std::vector<Vec3> position;
+// The particles' oil met frame by frame, in identity order (as trajectory.h5 holds it, so that a
+// run folder read back meets exactly what the run met): a particle active at one frame and not
+// at the next was retired in between (at the outflow or over a terrain edge) and its oil, as its
+// retired self holds it, is handed over where it last was in the box; at the end, the oil still
+// in the box. The particle count may grow between frames (leaks add particles).
+class HandoverTracker {
+ public:
+  HandoverTracker(const reach::NearFieldWindow& box, Real rest_volume, NearFieldHandover& out)
+      : box_(box), rest_volume_(rest_volume), out_(out) {}
 
-  void remember(const FluidParticles& fluid) {
-    if (active.size() < fluid.position.size()) {
-      active.resize(fluid.position.size(), 0);
-      position.resize(fluid.position.size());
-    }
-    for (Index s = 0; s < fluid.active; ++s) {
-      const size_t id = size_t(fluid.id[size_t(s)]);
-      active[id] = 1;
-      position[id] = fluid.position[size_t(s)];
+  void start(const std::vector<Vec3>& position, const std::vector<std::uint8_t>& active) {
+    remember(position, active);
+  }
+  void frame(double t, const std::vector<Vec3>& position, const std::vector<std::uint8_t>& active,
+             const std::vector<Real>& oil_fraction) {
+    OilParcelCollector retired(box_, t, true, out_.parcels);
+    for (size_t id = 0; id < was_active_.size() && id < active.size(); ++id)
+      if (was_active_[id] && !active[id])
+        retired.add(last_position_[id], oil_fraction[id], rest_volume_);
+    out_.left_m3 += retired.finish();
+    remember(position, active);
+  }
+  void finish(double t, const std::vector<Vec3>& position, const std::vector<std::uint8_t>& active,
+              const std::vector<Real>& oil_fraction) {
+    OilParcelCollector remaining(box_, t, false, out_.parcels);
+    for (size_t id = 0; id < active.size(); ++id)
+      if (active[id]) remaining.add(position[id], oil_fraction[id], rest_volume_);
+    out_.remaining_m3 = remaining.finish();
+  }
+
+ private:
+  void remember(const std::vector<Vec3>& position, const std::vector<std::uint8_t>& active) {
+    was_active_.resize(active.size(), 0);
+    last_position_.resize(active.size());
+    for (size_t id = 0; id < active.size(); ++id) {
+      was_active_[id] = active[id];
+      if (active[id]) last_position_[id] = position[id];
     }
   }
-  // The oil of the particles retired since the last call.
-  void collect_retired(const FluidParticles& fluid, OilParcelCollector& out) {
-    for (Index s = fluid.active; s < fluid.size(); ++s) {
-      const size_t id = size_t(fluid.id[size_t(s)]);
-      if (id >= active.size() || !active[id]) continue;
-      active[id] = 0;
-      out.add(position[id], fluid.oil_fraction[size_t(s)], fluid.rest_volume[size_t(s)]);
-    }
-  }
+
+  const reach::NearFieldWindow& box_;
+  Real rest_volume_;
+  NearFieldHandover& out_;
+  std::vector<std::uint8_t> was_active_;
+  std::vector<Vec3> last_position_;
 };
+
+// A simulation's fluid as a frame of trajectory.h5 holds it.
+void frame_of(const Simulation& sim, TrajectoryFrame& frame) {
+  const FluidParticles& fluid = sim.fluid();
+  frame.time = sim.time();
+  frame.position = sim.in_id_order(fluid.position);
+  frame.oil_fraction = sim.in_id_order(fluid.oil_fraction);
+  frame.active.assign(fluid.size(), 0);
+  for (Index s = 0; s < fluid.active; ++s) frame.active[size_t(fluid.id[size_t(s)])] = 1;
+}
+
+nlohmann::json box_json(const ReachWindowConfig& w) {
+  return {{"centre", w.centre},
+          {"length_m", w.length},
+          {"width_m", w.width},
+          {"heading_deg", w.heading}};
+}
 
 }  // namespace
 
@@ -94,11 +133,12 @@ NearFieldHandover run_near_field_handover(const std::string& scene_file,
 
   NearFieldHandover out;
   out.oil_density = double(c.materials.oil.density);
-  out.particle_volume_m3 = std::pow(double(c.particle_diameter()), 3);
+  out.particle_volume_m3 = double(particle_rest_volume(c));
   Simulation sim(c);
-  const FluidParticles& fluid = sim.fluid();
-  LastActive last;
-  last.remember(fluid);
+  HandoverTracker tracker(box, particle_rest_volume(c), out);
+  TrajectoryFrame frame;
+  frame_of(sim, frame);
+  tracker.start(frame.position, frame.active);
 
   const int frames = frame_count(c);
   common::ProgressReporter progress(log ? *log : std::cerr, terminal, frames,
@@ -106,25 +146,18 @@ NearFieldHandover run_near_field_handover(const std::string& scene_file,
   FrameLoop loop;
   loop.first = 0;
   loop.last = frames;
-  loop.frame_dt = double(c.output.frame_dt);
+  // As spill-sim run steps (scene_runner.cpp), so that its run folder records these very frames.
+  loop.frame_dt = shortest_decimal(c.output.frame_dt);
   loop.stop = stop;
   loop.interrupted_note = "nothing written";
   loop.progress = log ? &progress : nullptr;
   run_frames(sim, loop, [&](int, const FrameStats&, double) {
-    OilParcelCollector retired(box, sim.time(), true, out.parcels);
-    last.collect_retired(fluid, retired);
-    out.left_m3 += retired.finish();
-    last.remember(fluid);
+    frame_of(sim, frame);
+    tracker.frame(frame.time, frame.position, frame.active, frame.oil_fraction);
   });
-  // What remains in the box at the end.
-  OilParcelCollector remaining(box, sim.time(), false, out.parcels);
-  for (Index s = 0; s < fluid.active; ++s)
-    remaining.add(fluid.position[size_t(s)], fluid.oil_fraction[size_t(s)],
-                  fluid.rest_volume[size_t(s)]);
-  out.remaining_m3 = remaining.finish();
+  tracker.finish(frame.time, frame.position, frame.active, frame.oil_fraction);
   if (log) progress.finish(std::to_string(out.parcels.size()) + " parcels of oil");
 
-  const ReachWindowConfig& w = *c.terrain->reach;
   out.summary = {{"scene", scene_file},
                  {"end_time_s", sim.time()},
                  {"steps", sim.steps()},
@@ -135,11 +168,70 @@ NearFieldHandover run_near_field_handover(const std::string& scene_file,
                  {"leak_schedule_m3", scheduled_leak_volume(c)},
                  {"particle_volume_m3", out.particle_volume_m3},
                  {"near_field_oil_density_kg_m3", out.oil_density},
-                 {"box",
-                  {{"centre", w.centre},
-                   {"length_m", w.length},
-                   {"width_m", w.width},
-                   {"heading_deg", w.heading}}}};
+                 {"box", box_json(*c.terrain->reach)}};
+  return out;
+}
+
+NearFieldHandover near_field_handover_from_run(const std::string& run_folder,
+                                               const FarFieldReachRun& far_field, std::ostream* log,
+                                               bool terminal) {
+  namespace fs = std::filesystem;
+  const fs::path folder(run_folder);
+  if (!fs::is_directory(folder))
+    throw common::ConfigError(far_field.config_file, far_field.pointer,
+                              run_folder +
+                                  " is not a folder (a finished spill-sim run or "
+                                  "spill-infer predict)");
+  for (const char* marker : {"metadata.json", "trajectory.h5"})
+    if (!fs::exists(folder / marker))
+      throw common::ConfigError(far_field.config_file, far_field.pointer,
+                                run_folder + " has no " + marker +
+                                    ": not a finished run of spill-sim run or spill-infer predict");
+  const std::string metadata_file = (folder / "metadata.json").string();
+  const nlohmann::json metadata = common::load_json_file(metadata_file, "run metadata");
+  if (!metadata.contains("scene") || !metadata["scene"].is_object())
+    throw common::ConfigError(metadata_file, "/scene", "expected the run's resolved scene");
+  // The resolved scene names the reach run by its absolute path and the box's heading as used.
+  const LoadedScene scene = parse_scene(metadata["scene"], metadata_file + ":/scene");
+  const SceneConfig& c = scene.config;
+  const reach::NearFieldWindow box = handover_box(c, metadata_file + ":/scene", far_field);
+
+  TrajectoryReader trajectory((folder / "trajectory.h5").string());
+  NearFieldHandover out;
+  out.oil_density = double(c.materials.oil.density);
+  out.particle_volume_m3 = double(particle_rest_volume(c));
+  HandoverTracker tracker(box, particle_rest_volume(c), out);
+  TrajectoryFrame frame;
+  trajectory.read(0, frame);
+  tracker.start(frame.position, frame.active);
+  common::ProgressReporter progress(log ? *log : std::cerr, terminal, trajectory.frames() - 1,
+                                    "near field from " + run_folder);
+  for (int k = 1; k < trajectory.frames(); ++k) {
+    trajectory.read(k, frame);
+    tracker.frame(frame.time, frame.position, frame.active, frame.oil_fraction);
+    if (log) progress.update(k, "t = " + std::to_string(frame.time) + " s");
+  }
+  tracker.finish(frame.time, frame.position, frame.active, frame.oil_fraction);
+  if (log) progress.finish(std::to_string(out.parcels.size()) + " parcels of oil");
+
+  out.summary = {{"run", run_folder},
+                 {"scene", metadata.value("scene_file", "")},
+                 {"end_time_s", frame.time},
+                 {"frames", trajectory.frames()},
+                 {"parcels", out.parcels.size()},
+                 {"left_box_m3", out.left_m3},
+                 {"remaining_in_box_m3", out.remaining_m3},
+                 {"handed_over_m3", out.left_m3 + out.remaining_m3},
+                 {"leak_schedule_m3", scheduled_leak_volume(c)},
+                 {"particle_volume_m3", out.particle_volume_m3},
+                 {"near_field_oil_density_kg_m3", out.oil_density},
+                 {"box", box_json(*c.terrain->reach)}};
+  if (metadata.contains("predicted_by")) out.summary["predicted_by"] = metadata["predicted_by"];
+  if (fs::exists(folder / "stats.json")) {
+    const nlohmann::json stats =
+        common::load_json_file((folder / "stats.json").string(), "run stats");
+    if (stats.contains("steps")) out.summary["steps"] = stats["steps"];
+  }
   return out;
 }
 

@@ -41,4 +41,15 @@ NearFieldHandover run_near_field_handover(const std::string& scene_file,
                                           const std::atomic<bool>* stop, std::ostream* log,
                                           bool terminal);
 
+// The same hand-over from a finished near-field run folder (of spill-sim run, or of spill-infer
+// predict: a learned near field), read frame by frame from its trajectory.h5 with its scene from
+// its metadata.json, so that the same run gives the same parcels either way (the in-process
+// hand-over meets the run's frames as trajectory.h5 records them). Throws ConfigError naming
+// `far_field`'s key for a folder that is not a finished run or sits in another reach run, or the
+// run's metadata.json for a scene that cannot hand over; InputError naming trajectory.h5 for a
+// corrupt one.
+NearFieldHandover near_field_handover_from_run(const std::string& run_folder,
+                                               const FarFieldReachRun& far_field, std::ostream* log,
+                                               bool terminal);
+
 }  // namespace sph

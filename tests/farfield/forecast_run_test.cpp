@@ -229,6 +229,13 @@ TEST_F(Forecast, BadInputIsRefusedNamingTheFileAndKey) {
   EXPECT_TRUE(names(m, "/releases/0/position")) << m;
   m = refusal({"/flow/reach_run=\"nowhere\""});
   EXPECT_TRUE(names(m, "/flow/reach_run")) << m;
+  // A near field is a scene to run or a finished run's folder: one of the two.
+  m = refusal({"/near_field={\"scene\": \"a.json\", \"run\": \"b\"}"});
+  EXPECT_TRUE(names(m, "/near_field/run")) << m;
+  m = refusal({"/near_field={\"elements_per_parcel\": 3}"});
+  EXPECT_TRUE(names(m, "/near_field/scene")) << m;
+  m = refusal({"/near_field={\"run\": \"b\", \"set\": [\"/end_time=3\"]}"});
+  EXPECT_TRUE(names(m, "/near_field/set")) << m;
 }
 
 // docs/far_field_reference.md is `spill-sim forecast-doc`'s output: regenerate it when a key
