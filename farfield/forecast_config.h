@@ -90,6 +90,8 @@ struct EnvironmentConfig {
   std::optional<SeriesConfig> wave_height;
   double fetch = 500;
   bool ice = false;
+  bool river_dispersion = false;
+  bool sinking = false;
   template <class V>
   void describe(V& v) {
     v.field("water_temperature", water_temperature,
@@ -108,6 +110,16 @@ struct EnvironmentConfig {
                   "not given (a river's width, or its straight reach along the wind)")
                 .positive());
     v.field("ice", ice, param("", "The river is under ice: no wind drift and no evaporation"));
+    v.field("river_dispersion", river_dispersion,
+            param("",
+                  "Natural dispersion by the river's own turbulence too (Delvigne & Hulsen 1994 "
+                  "with the surface dissipation of the bed shear), beside the waves'. Off by "
+                  "default: a laboratory law carried over to rivers; run with and without it to "
+                  "bracket the budget (docs/far_field.md)"));
+    v.field("sinking", sinking,
+            param("",
+                  "Oil whose weathered density reaches the water's sinks to the bed where it is "
+                  "(budget: sunk)"));
   }
 };
 

@@ -217,6 +217,7 @@ nlohmann::json ForecastEnsemble::summary(const std::vector<double>& times,
     share_quantiles("evaporated", &Budget::evaporated);
     share_quantiles("dispersed", &Budget::dispersed);
     share_quantiles("left_reach", &Budget::left_reach);
+    share_quantiles("sunk", &Budget::sunk);
     budgets.push_back(shares);
   }
   return {{"members", tally_.members()},

@@ -78,14 +78,12 @@ ShoreSnapshot shore_snapshot(const FarFieldModel& model) {
 void write_budget(const fs::path& dir, const nlohmann::json& outputs) {
   std::ofstream csv(dir / "budget.csv");
   csv << "t_s,released_kg,floating_kg,stranded_kg,evaporated_kg,dispersed_kg,left_reach_kg,"
-         "closure_error\n";
+         "sunk_kg,closure_error\n";
   csv.precision(12);
-  std::vector<common::PlotSeries> series = {{"floating", {}, {}},
-                                            {"stranded", {}, {}},
-                                            {"evaporated", {}, {}},
-                                            {"dispersed", {}, {}},
-                                            {"left the reach", {}, {}}};
-  const char* keys[] = {"floating", "stranded", "evaporated", "dispersed", "left_reach"};
+  std::vector<common::PlotSeries> series = {{"floating", {}, {}},       {"stranded", {}, {}},
+                                            {"evaporated", {}, {}},     {"dispersed", {}, {}},
+                                            {"left the reach", {}, {}}, {"sunk", {}, {}}};
+  const char* keys[] = {"floating", "stranded", "evaporated", "dispersed", "left_reach", "sunk"};
   for (const auto& o : outputs) {
     const auto& b = o.at("budget_kg");
     csv << o.at("t_s").get<double>() << "," << b.at("released").get<double>();

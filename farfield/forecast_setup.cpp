@@ -134,6 +134,8 @@ Environment build_environment(const ForecastConfig& c, const std::string& file) 
         covering_series(*e.wave_height, c.end_time, file, "/environment/wave_height", true);
   env.fetch = e.fetch;
   env.ice = e.ice;
+  env.river_dispersion = e.river_dispersion;
+  env.sinking = e.sinking;
   return env;
 }
 

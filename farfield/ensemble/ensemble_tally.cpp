@@ -96,9 +96,9 @@ std::vector<double> EnsembleTally::bank_offset() const {
 }
 
 namespace {
-// Budget <-> [released, floating, stranded, evaporated, dispersed, left_reach].
+// Budget <-> [released, floating, stranded, evaporated, dispersed, left_reach, sunk].
 nlohmann::json budget_json(const Budget& b) {
-  return {b.released, b.floating, b.stranded, b.evaporated, b.dispersed, b.left_reach};
+  return {b.released, b.floating, b.stranded, b.evaporated, b.dispersed, b.left_reach, b.sunk};
 }
 Budget budget_from(const nlohmann::json& j) {
   Budget b;
@@ -108,6 +108,7 @@ Budget budget_from(const nlohmann::json& j) {
   b.evaporated = j.at(3);
   b.dispersed = j.at(4);
   b.left_reach = j.at(5);
+  b.sunk = j.at(6);
   return b;
 }
 }  // namespace

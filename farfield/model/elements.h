@@ -11,7 +11,9 @@
 
 namespace farfield {
 
-enum class ElementState : std::uint8_t { floating = 0, stranded = 1, left_reach = 2 };
+// sunk: denser than the water it floated on, it went to the bed where it was
+// (/environment/sinking).
+enum class ElementState : std::uint8_t { floating = 0, stranded = 1, left_reach = 2, sunk = 3 };
 
 struct Elements {
   int cuts = 0;                         // pseudo-components per element

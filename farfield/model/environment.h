@@ -18,7 +18,9 @@ struct Environment {
   std::optional<reach::Hydrograph> wave_height;
   double fetch = 500;  // m: how far the wind blows over water (waves when not given)
   bool ice = false;
-  double water_density = 1000;  // kg/m^3
+  double water_density = 1000;    // kg/m^3
+  bool river_dispersion = false;  // the river's turbulence disperses oil too (weathering.h)
+  bool sinking = false;           // oil as dense as the water sinks to the bed
 
   WeatherNow weather_at(double t) const;
   // The wind's velocity (where it blows to); zero under ice, which shelters the oil.

@@ -24,7 +24,7 @@ void place_in_disc(std::uint64_t e, double& ux, double& uy) {
 
 double Budget::closure_error() const {
   if (!(released > 0)) return 0;
-  return std::abs(released - (floating + stranded + evaporated + dispersed + left_reach)) /
+  return std::abs(released - (floating + stranded + evaporated + dispersed + left_reach + sunk)) /
          released;
 }
 
@@ -134,8 +134,21 @@ void FarFieldModel::step(double dt) {
     const FaySlick& slick = slicks_[size_t(el.slick[e])];
     const double share = el.slick_share[e];
     const double slick_diameter = 2 * std::sqrt(el.area[e] / share / kPi);
-    weather_element(setup_.oil, el, e, weathering, setup_.weathering, slick_diameter, live);
+    double river_rate = 0;
+    if (env.river_dispersion && setup_.weathering.dispersion) {
+      const FlowSample s = flow.sample(el.x[e], el.y[e], t0);
+      if (s.where == FlowWhere::water)
+        river_rate = river_dispersion_rate(
+            river_surface_dissipation(s.depth, std::hypot(s.u, s.v), s.manning, env.water_density));
+    }
+    weather_element(setup_.oil, el, e, weathering, setup_.weathering, slick_diameter, river_rate,
+                    live);
     el.age[e] += dt;
+    // Weathered as dense as the water it floats on, the oil goes down where it is.
+    if (env.sinking && oil_density(setup_.oil, el, e) >= env.water_density) {
+      el.state[e] = ElementState::sunk;
+      continue;
+    }
     double spread_x = 0, spread_y = 0;
     if (setup_.spreading) {
       const double most = el.released_mass[e] / setup_.oil.density / min_thickness;
@@ -223,6 +236,9 @@ Budget FarFieldModel::budget() const {
         break;
       case ElementState::left_reach:
         b.left_reach += m;
+        break;
+      case ElementState::sunk:
+        b.sunk += m;
         break;
     }
   }

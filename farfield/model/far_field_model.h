@@ -55,7 +55,8 @@ struct FarFieldSetup {
 };
 
 struct Budget {
-  double released = 0, floating = 0, stranded = 0, evaporated = 0, dispersed = 0, left_reach = 0;
+  double released = 0, floating = 0, stranded = 0, evaporated = 0, dispersed = 0, left_reach = 0,
+         sunk = 0;
   // |released - (the rest)| / released (0 before anything is released).
   double closure_error() const;
 };

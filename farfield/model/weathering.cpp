@@ -160,11 +160,25 @@ void emulsify(const OilRecord& oil, Elements& el, size_t e, const StepWeathering
   el.water_fraction[e] = std::min(y_max, s * kLargestDroplet / (6 + s * kLargestDroplet));
 }
 
-void disperse(const OilRecord&, Elements& el, size_t e, const StepWeathering& w, double dt) {
-  if (!(w.dispersion_rate > 0)) return;
+double river_surface_dissipation(double depth, double speed, double manning, double water_density) {
+  if (!(depth > 0) || !(speed > 0)) return 0;
+  const double shear = speed * std::sqrt(kGravity * manning * manning / std::cbrt(depth));
+  const double xi = 0.9;  // the top of the range Nezu & Nakagawa fitted
+  const double profile = 9.8 / std::sqrt(xi) * std::exp(-3 * xi);
+  return water_density * profile * shear * shear * shear / depth;
+}
+
+double river_dispersion_rate(double dissipation) {
+  return dissipation > 0 ? std::pow(dissipation, 0.57) * kEntrainedVolume : 0.0;
+}
+
+void disperse(const OilRecord&, Elements& el, size_t e, const StepWeathering& w, double river_rate,
+              double dt) {
+  const double entrained = w.dispersion_rate + river_rate;
+  if (!(entrained > 0)) return;
   const double nu = emulsion_viscosity_from(w.fresh_viscosity, el, e);
   const double c_roy = 2400 * std::exp(-73.682 * std::sqrt(nu));
-  const double rate = c_roy * w.dispersion_rate * (1 - el.water_fraction[e]) * el.area[e];
+  const double rate = c_roy * entrained * (1 - el.water_fraction[e]) * el.area[e];
   const double mass = el.oil_mass(e);
   if (!(mass > 0)) return;
   const double fraction = std::min(1.0, rate * dt / mass);
@@ -180,13 +194,14 @@ void disperse(const OilRecord&, Elements& el, size_t e, const StepWeathering& w,
 }
 
 void weather_element(const OilRecord& oil, Elements& el, size_t e, const StepWeathering& w,
-                     const WeatheringSwitches& on, double slick_diameter, double dt) {
+                     const WeatheringSwitches& on, double slick_diameter, double river_rate,
+                     double dt) {
   if (on.evaporation && on.fingas)
     evaporate_fingas(oil, el, e, w, dt);
   else if (on.evaporation)
     evaporate(oil, el, e, w, slick_diameter, dt);
   if (on.emulsification) emulsify(oil, el, e, w, dt);
-  if (on.dispersion) disperse(oil, el, e, w, dt);
+  if (on.dispersion) disperse(oil, el, e, w, river_rate, dt);
 }
 
 }  // namespace farfield

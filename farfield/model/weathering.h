@@ -15,6 +15,14 @@
 //   kg/s, C_Roy = 2400 exp(-73.682 sqrt(nu)) with nu the emulsion's kinematic viscosity (m^2/s),
 //   D_e = 0.0034 rho_w g H_rms^2 the waves' dissipated energy, f_bw the fraction of breaking
 //   waves (Lehr & Simecek-Beatty) and V = 3.9e-8 m^3.
+// - Natural dispersion by the river's own turbulence (an option, /environment/river_dispersion):
+//   Delvigne & Hulsen (1994) carried Delvigne & Sweeney's law over to turbulence that is not
+//   breaking waves, with the energy dissipation rate per unit volume eps (J m^-3 s^-1) in the
+//   place of the breaking waves' D_e^0.57 f_bw: Q = C_Roy eps^0.57 V (1 - Y) A. A river's eps
+//   at the surface comes from its bed shear: Nezu & Nakagawa's (1993) open-channel profile
+//   eps h / u*^3 = 9.8 xi^(-1/2) exp(-3 xi) (xi = z / h), taken at the top of its range (xi =
+//   0.9: 0.694 u*^3 / h), times the water's density; u* = |u| sqrt(g n^2 / h^(1/3)) as the drift
+//   takes it. Added to the waves' dispersion.
 // - The emulsion's properties: oil density from its components' (volumes adding), emulsion
 //   density Y rho_w + (1 - Y) rho_oil; viscosity nu_0(T) exp(c F_evap) (c = 1500 sqrt(nu_0)
 //   clipped to 1-10) times Mooney's (1 + (Y / 0.84) / (1.187 - Y / 0.84))^2.49.
@@ -77,10 +85,19 @@ void evaporate(const OilRecord& oil, Elements& el, size_t e, const StepWeatherin
 void evaporate_fingas(const OilRecord& oil, Elements& el, size_t e, const StepWeathering& w,
                       double dt);
 void emulsify(const OilRecord& oil, Elements& el, size_t e, const StepWeathering& w, double dt);
-void disperse(const OilRecord& oil, Elements& el, size_t e, const StepWeathering& w, double dt);
+// The turbulence's dissipation rate per unit volume (J m^-3 s^-1) at a river's surface, from its
+// depth (m), depth-averaged speed (m/s) and Manning's n, and the water's density.
+double river_surface_dissipation(double depth, double speed, double manning, double water_density);
+// D&H's eps^0.57 V for that dissipation: what disperse() adds to the waves' dispersion_rate.
+double river_dispersion_rate(double dissipation);
 
-// All three, as switched.
+// Disperses element e for dt at the waves' rate plus `river_rate` (river_dispersion_rate).
+void disperse(const OilRecord& oil, Elements& el, size_t e, const StepWeathering& w,
+              double river_rate, double dt);
+
+// All three, as switched; `river_rate` as disperse() takes it.
 void weather_element(const OilRecord& oil, Elements& el, size_t e, const StepWeathering& w,
-                     const WeatheringSwitches& on, double slick_diameter, double dt);
+                     const WeatheringSwitches& on, double slick_diameter, double river_rate,
+                     double dt);
 
 }  // namespace farfield

@@ -103,7 +103,8 @@ common::RgbImage draw_forecast_map(const ReachFlow& flow, const FarFieldModel& m
     char text[160];
     std::snprintf(text, sizeof text, "%.0f%% afloat %.0f%% banks %.0f%% air %.0f%% out",
                   100 * b.floating / b.released, 100 * b.stranded / b.released,
-                  100 * b.evaporated / b.released, 100 * (b.dispersed + b.left_reach) / b.released);
+                  100 * b.evaporated / b.released,
+                  100 * (b.dispersed + b.left_reach + b.sunk) / b.released);
     common::draw_text(img, x, y, text, scale, kInk);
   }
   return img;

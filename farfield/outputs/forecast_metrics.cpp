@@ -61,7 +61,7 @@ nlohmann::json forecast_record(const FarFieldModel& model, const reach::Grid& gr
 
   // The front: the farthest oil downstream, on the water or on a bank.
   double front = -1e300;
-  size_t floating = 0, stranded = 0;
+  size_t floating = 0, stranded = 0, sunk = 0;
   double floating_volume = 0;
   for (size_t e = 0; e < el.size(); ++e) {
     if (el.state[e] == ElementState::left_reach) continue;
@@ -69,6 +69,8 @@ nlohmann::json forecast_record(const FarFieldModel& model, const reach::Grid& gr
     if (el.state[e] == ElementState::floating) {
       ++floating;
       floating_volume += model.emulsion_volume(e);
+    } else if (el.state[e] == ElementState::sunk) {
+      ++sunk;
     } else {
       ++stranded;
     }
@@ -111,11 +113,12 @@ nlohmann::json forecast_record(const FarFieldModel& model, const reach::Grid& gr
 
   const double released = b.released > 0 ? b.released : 1.0;
   return {{"t_s", model.time()},
-          {"elements", {{"floating", floating}, {"stranded", stranded}, {"total", el.size()}}},
+          {"elements",
+           {{"floating", floating}, {"stranded", stranded}, {"sunk", sunk}, {"total", el.size()}}},
           {"oiled_area_m2", oiled},
           {"floating_emulsion_m3", floating_volume},
           {"leading_edge_km",
-           floating + stranded > 0 ? nlohmann::json(front / 1000) : nlohmann::json()},
+           floating + stranded + sunk > 0 ? nlohmann::json(front / 1000) : nlohmann::json()},
           {"banks", per_bank},
           {"budget_kg",
            {{"released", b.released},
@@ -124,13 +127,15 @@ nlohmann::json forecast_record(const FarFieldModel& model, const reach::Grid& gr
             {"evaporated", b.evaporated},
             {"dispersed", b.dispersed},
             {"left_reach", b.left_reach},
+            {"sunk", b.sunk},
             {"closure_error", b.closure_error()}}},
           {"budget_fraction",
            {{"floating", b.floating / released},
             {"stranded", b.stranded / released},
             {"evaporated", b.evaporated / released},
             {"dispersed", b.dispersed / released},
-            {"left_reach", b.left_reach / released}}},
+            {"left_reach", b.left_reach / released},
+            {"sunk", b.sunk / released}}},
           {"watch_points", watch}};
 }
 

@@ -99,11 +99,12 @@ int define_status(const File& f, const Layout& l) {
   f.check(nc_def_var(f.id, "status", NC_INT, 2, dims, &var), "define status");
   const int status_fill = -2147483647;
   f.check(nc_def_var_fill(f.id, var, 0, &status_fill), "set the fill of status");
-  const int flag_values[3] = {0, 1, 2};
-  f.check(nc_put_att_int(f.id, var, "flag_values", NC_INT, 3, flag_values), "flag_values");
-  f.text(var, "flag_meanings", "active stranded left_reach");
+  const int flag_values[4] = {0, 1, 2, 3};
+  f.check(nc_put_att_int(f.id, var, "flag_values", NC_INT, 4, flag_values), "flag_values");
+  f.text(var, "flag_meanings", "active stranded left_reach sunk");
   f.text(var, "long_name",
-         "status of the element: 0 floating, 1 stranded on a bank, 2 left the reach");
+         "status of the element: 0 floating, 1 stranded on a bank, 2 left the reach, 3 sunk "
+         "to the bed");
   f.text(var, "coordinates", "lon lat time");
   return var;
 }

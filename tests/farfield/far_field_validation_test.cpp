@@ -4,7 +4,9 @@
 // maximum, the budget closed at every step, a crosswind stranding everything on the lee bank and
 // nothing of wind or evaporation under ice; and (issue 49) no numerical knob in the weathering
 // (a continuous release's evaporation with the step, a handed-over parcel's with how many elements
-// carry it), and a crude with no stable emulsion measured taking up water to adios_db's estimate.
+// carry it), a crude with no stable emulsion measured taking up water to adios_db's estimate,
+// the river's own turbulence dispersing at Delvigne & Hulsen's rate and oil as dense as the water
+// sinking where it is.
 
 #include <gtest/gtest.h>
 
@@ -455,6 +457,90 @@ TEST(FarFieldValidation, ASteadyCrosswindStrandsEverythingOnTheLeeBank) {
       ++left_bank;
   EXPECT_EQ(left_bank, el.size());
   EXPECT_EQ(model.budget().floating, 0);
+}
+
+// Dispersion by the river's turbulence alone (calm air, no waves; evaporation, water uptake and
+// spreading off, so the element's area and viscosity hold): Delvigne & Hulsen's law with the
+// surface dissipation of Nezu & Nakagawa's profile at xi = 0.9 is a constant rate,
+// Q = C_Roy eps^0.57 V A, with C_Roy = 2400 exp(-73.682 sqrt(nu)), eps = rho 9.8 xi^(-1/2)
+// exp(-3 xi) u*^3 / h and u* = U n sqrt(g) / h^(1/6), so the dispersed mass grows as Q t exactly.
+// Without the option, nothing disperses; a channel twice as fast disperses 8^0.57 times as fast.
+TEST(FarFieldValidation, TheRiversTurbulenceDispersesAtDelvigneAndHulsensRate) {
+  const auto dispersed_after = [](double speed, bool river, double& rate) {
+    FarFieldSetup s = channel_setup(400);
+    auto channel = std::make_shared<ChannelFlow>(static_cast<const ChannelFlow&>(*s.flow));
+    channel->speed = speed;
+    s.flow = channel;
+    s.weathering.evaporation = false;
+    s.weathering.emulsification = false;
+    s.spreading = false;
+    s.environment.river_dispersion = river;
+    s.releases = {point_release(1000, 200, 1.0, 1)};
+    FarFieldModel model(s);
+    model.step(60);
+    const double area = model.elements().area[0];
+    for (int k = 1; k < 60; ++k) model.step(60);
+    const ChannelFlow& c = *channel;
+    const double shear = c.speed * c.manning * std::sqrt(kG) / std::pow(c.depth, 1.0 / 6);
+    const double xi = 0.9;
+    const double eps =
+        1000 * 9.8 / std::sqrt(xi) * std::exp(-3 * xi) * std::pow(shear, 3) / c.depth;
+    const double c_roy = 2400 * std::exp(-73.682 * std::sqrt(s.oil.viscosity_at(15)));
+    rate = c_roy * std::pow(eps, 0.57) * 3.9e-8 * area;
+    EXPECT_LT(model.budget().closure_error(), 1e-12);
+    return model.budget().dispersed;
+  };
+  double rate = 0, fast_rate = 0;
+  const double slow = dispersed_after(1.0, true, rate);
+  EXPECT_NEAR(slow, rate * 3600, 1e-9 * rate * 3600);
+  EXPECT_GT(slow, 0.01 * 863.9) << "under 1 % of a cubic metre dispersed in an hour";
+  const double fast = dispersed_after(2.0, true, fast_rate);
+  EXPECT_NEAR(fast / slow, std::pow(8.0, 0.57), 1e-9);
+  EXPECT_EQ(dispersed_after(1.0, false, rate), 0.0);
+}
+
+// Oil weathered to the water's density sinks where it is (/environment/sinking). A dilbit made
+// 8 % denser (995 kg/m^3 fresh, its residue above 1000) in a 10 m/s wind: each element sinks in
+// the step its density, as the same run without sinking computes it, first reaches 1000 kg/m^3,
+// and never moves again; the budget counts it as sunk and closes. Without the option it floats.
+TEST(FarFieldValidation, OilAsDenseAsTheWaterSinksWhereItIs) {
+  const auto setup = [](bool sinking) {
+    FarFieldSetup s = channel_setup(2000, "diluted_bitumen");
+    const double scale = 995 / s.oil.density;
+    s.oil.density *= scale;
+    for (PseudoComponent& c : s.oil.components) c.density *= scale;
+    s.environment.wind_speed = reach::Hydrograph(10.0);
+    s.environment.wind_from_deg = reach::Hydrograph(270.0);  // down the channel
+    s.environment.sinking = sinking;
+    s.releases = {point_release(1000, 1000, 1.0, 20)};
+    return s;
+  };
+  FarFieldModel sinking(setup(true)), floating(setup(false));
+  std::vector<int> sank_at(20, -1);
+  std::vector<double> x_sunk(20, 0);
+  for (int k = 0; k < 6 * 60; ++k) {
+    std::vector<bool> dense(20);
+    sinking.step(60);
+    floating.step(60);
+    for (size_t e = 0; e < 20; ++e) {
+      const bool now_dense = oil_density(floating.setup().oil, floating.elements(), e) >= 1000;
+      const bool sunk = sinking.elements().state[e] == ElementState::sunk;
+      if (sunk && sank_at[e] < 0) {
+        sank_at[e] = k;
+        x_sunk[e] = sinking.elements().x[e];
+      }
+      if (sank_at[e] >= 0) EXPECT_EQ(sinking.elements().x[e], x_sunk[e]) << e;
+      // The same weathering up to the step it sinks: it sinks exactly when it is dense.
+      if (sank_at[e] < 0 || sank_at[e] == k) EXPECT_EQ(sunk, now_dense) << e << " at " << k;
+      ASSERT_EQ(floating.elements().state[e] == ElementState::sunk, false);
+    }
+    ASSERT_LT(sinking.budget().closure_error(), 1e-12);
+  }
+  int sunk = 0;
+  for (int k : sank_at) sunk += k >= 0;
+  EXPECT_EQ(sunk, 20) << "not every element of a dilbit 8 % denser sank in 6 h of 10 m/s wind";
+  EXPECT_GT(sinking.budget().sunk, 0.5 * sinking.budget().released);
+  EXPECT_EQ(floating.budget().sunk, 0.0);
 }
 
 TEST(FarFieldValidation, UnderIceNoWindDriftAndNoEvaporation) {
