@@ -519,7 +519,6 @@ TEST(FarFieldValidation, OilAsDenseAsTheWaterSinksWhereItIs) {
   std::vector<int> sank_at(20, -1);
   std::vector<double> x_sunk(20, 0);
   for (int k = 0; k < 6 * 60; ++k) {
-    std::vector<bool> dense(20);
     sinking.step(60);
     floating.step(60);
     for (size_t e = 0; e < 20; ++e) {
@@ -529,10 +528,14 @@ TEST(FarFieldValidation, OilAsDenseAsTheWaterSinksWhereItIs) {
         sank_at[e] = k;
         x_sunk[e] = sinking.elements().x[e];
       }
-      if (sank_at[e] >= 0) EXPECT_EQ(sinking.elements().x[e], x_sunk[e]) << e;
+      if (sank_at[e] >= 0) {
+        EXPECT_EQ(sinking.elements().x[e], x_sunk[e]) << e;
+      }
       // The same weathering up to the step it sinks: it sinks exactly when it is dense.
-      if (sank_at[e] < 0 || sank_at[e] == k) EXPECT_EQ(sunk, now_dense) << e << " at " << k;
-      ASSERT_EQ(floating.elements().state[e] == ElementState::sunk, false);
+      if (sank_at[e] < 0 || sank_at[e] == k) {
+        EXPECT_EQ(sunk, now_dense) << e << " at " << k;
+      }
+      ASSERT_NE(floating.elements().state[e], ElementState::sunk);
     }
     ASSERT_LT(sinking.budget().closure_error(), 1e-12);
   }
