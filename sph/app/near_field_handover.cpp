@@ -1,6 +1,7 @@
 #include "sph/app/near_field_handover.h"
 
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <iostream>
 
@@ -209,7 +210,9 @@ NearFieldHandover near_field_handover_from_run(const std::string& run_folder,
   for (int k = 1; k < trajectory.frames(); ++k) {
     trajectory.read(k, frame);
     tracker.frame(frame.time, frame.position, frame.active, frame.oil_fraction);
-    if (log) progress.update(k, "t = " + std::to_string(frame.time) + " s");
+    char when[40];
+    std::snprintf(when, sizeof when, "t = %.4g s", frame.time);
+    if (log) progress.update(k, when);
   }
   tracker.finish(frame.time, frame.position, frame.active, frame.oil_fraction);
   if (log) progress.finish(std::to_string(out.parcels.size()) + " parcels of oil");
@@ -230,7 +233,8 @@ NearFieldHandover near_field_handover_from_run(const std::string& run_folder,
   if (fs::exists(folder / "stats.json")) {
     const nlohmann::json stats =
         common::load_json_file((folder / "stats.json").string(), "run stats");
-    if (stats.contains("steps")) out.summary["steps"] = stats["steps"];
+    if (stats.contains("summary") && stats["summary"].contains("steps"))
+      out.summary["steps"] = stats["summary"]["steps"];
   }
   return out;
 }

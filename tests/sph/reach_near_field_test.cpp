@@ -388,6 +388,15 @@ TEST_F(ReachNearField, AFinishedRunFolderHandsOverTheSameOilAsRunningItsScene) {
   EXPECT_EQ(read.remaining_m3, ran.remaining_m3);
   EXPECT_GT(read.left_m3, 0);
   EXPECT_EQ(read.summary["run"], (dir_ / "near_run").string());
+  // A learned near field's folder (spill-infer predict's) says which model predicted it: so does
+  // the hand-over's summary, in forecast.json.
+  nlohmann::json metadata;
+  std::ifstream(dir_ / "near_run" / "metadata.json") >> metadata;
+  metadata["predicted_by"] = {{"model", "dpi"}};
+  std::ofstream(dir_ / "near_run" / "metadata.json") << metadata.dump();
+  EXPECT_EQ(near_field_handover_from_run((dir_ / "near_run").string(), far_field, nullptr, false)
+                .summary["predicted_by"]["model"],
+            "dpi");
 
   // Not a run: an empty folder; a run in another reach run; a trajectory cut short.
   fs::create_directories(dir_ / "empty");
