@@ -238,7 +238,12 @@ nlohmann::json ForecastEnsemble::summary(const std::vector<double>& times,
 }
 
 ShoreProbability ForecastEnsemble::shore_probability(double t_s, const std::string& clock) const {
-  return {t_s, clock, tally_.bank_probability(), tally_.bank_offset()};
+  return {t_s,
+          clock,
+          tally_.bank_probability(),
+          tally_.bank_offset(),
+          bank_kilometres(setup_.model.banks, setup_.model.centreline),
+          tally_.group_probability()};
 }
 
 void ForecastEnsemble::write_files(const std::filesystem::path& dir,

@@ -128,14 +128,15 @@ void write_shoreline_geojson(const std::string& path, const std::vector<ShoreSna
   add_field(path, out, "class", OFTString);
   add_field(path, out, "volume_m3", OFTReal);
   if (probability) add_field(path, out, "oiling_probability", OFTReal);
-  // One bin's line at `offset` from the centreline, with the fields all lines share.
-  const auto bin_line = [&](int bin, double offset, const char* kind, double t_s,
-                            const std::string& clock) {
+  // The line of bins [first, last] of one bank at `offset` from the centreline, with the fields
+  // all lines share.
+  const auto stretch_line = [&](int first, int last, double offset, const char* kind, double t_s,
+                                const std::string& clock) {
     // A bin is drawn along the centreline only: the last (or one longer than the whole line,
     // bin_length 1e9) ends where the line does, not thousands of km beyond it.
     const double end = centreline.length();
-    const double from = std::min(banks.bin_start(bin), end);
-    const double to = std::min(banks.bin_start(bin) + banks.bin_length(), end);
+    const double from = std::min(banks.bin_start(first), end);
+    const double to = std::min(banks.bin_start(last) + banks.bin_length(), end);
     OGRLineString line;
     for (int k = 0; k <= 4; ++k) {
       double x, y;
@@ -146,12 +147,16 @@ void write_shoreline_geojson(const std::string& path, const std::vector<ShoreSna
     feature->SetField("kind", kind);
     feature->SetField("t_s", t_s);
     feature->SetField("time", clock.c_str());
-    feature->SetField("bank", banks.side_of(bin) == BankSide::left ? "left" : "right");
+    feature->SetField("bank", banks.side_of(first) == BankSide::left ? "left" : "right");
     feature->SetField("km_from", from / 1000);
     feature->SetField("km_to", to / 1000);
-    feature->SetField("class", banks.class_of(bin).name.c_str());
+    if (first == last) feature->SetField("class", banks.class_of(first).name.c_str());
     feature->SetGeometry(&line);
     return feature;
+  };
+  const auto bin_line = [&](int bin, double offset, const char* kind, double t_s,
+                            const std::string& clock) {
+    return stretch_line(bin, bin, offset, kind, t_s, clock);
   };
   for (const ShoreSnapshot& snap : snapshots)
     for (int bin = 0; bin < banks.bins(); ++bin) {
@@ -169,6 +174,29 @@ void write_shoreline_geojson(const std::string& path, const std::vector<ShoreSna
     auto feature = bin_line(bin, probability->mean_offset[size_t(bin)], "probability",
                             probability->t_s, probability->clock);
     feature->SetField("oiling_probability", probability->probability[size_t(bin)]);
+    if (out->CreateFeature(feature.get()) != OGRERR_NONE)
+      throw std::runtime_error(path + ": GDAL could not write a shoreline line");
+  }
+  // Each kilometre some member oiled: from its first bin to its last, at the mean offset of the
+  // bins in it that members oiled.
+  for (size_t g = 0; g < probability->kilometre_probability.size(); ++g) {
+    if (!(probability->kilometre_probability[g] > 0)) continue;
+    int first = -1, last = -1;
+    double offset = 0;
+    int oiled = 0;
+    for (int bin = 0; bin < banks.bins(); ++bin) {
+      if (probability->kilometre[size_t(bin)] != int(g)) continue;
+      if (first < 0) first = bin;
+      last = bin;
+      if (probability->probability[size_t(bin)] > 0) {
+        offset += probability->mean_offset[size_t(bin)];
+        ++oiled;
+      }
+    }
+    if (first < 0 || oiled == 0) continue;
+    auto feature = stretch_line(first, last, offset / oiled, "probability_km", probability->t_s,
+                                probability->clock);
+    feature->SetField("oiling_probability", probability->kilometre_probability[g]);
     if (out->CreateFeature(feature.get()) != OGRERR_NONE)
       throw std::runtime_error(path + ": GDAL could not write a shoreline line");
   }

@@ -40,11 +40,15 @@ void write_slick_geojson(const std::string& path, const std::vector<SlickSnapsho
 struct ShoreProbability {
   double t_s = 0;
   std::string clock;
-  std::vector<double> probability, mean_offset;
+  std::vector<double> probability, mean_offset;  // per bank bin
+  std::vector<int> kilometre;                    // each bin's group: a whole kilometre of a bank
+  std::vector<double> kilometre_probability;     // per group
 };
 
 // With `probability`, shoreline.geojson also holds a line for each bank bin some member oiled,
-// with its oiling probability (kind "probability"; the deterministic lines are kind "stranded").
+// with its oiling probability (kind "probability"), and one for each whole kilometre of a bank
+// some member oiled, with the share of members that oiled it anywhere (kind
+// "probability_km"); the deterministic lines are kind "stranded".
 void write_shoreline_geojson(const std::string& path, const std::vector<ShoreSnapshot>& snapshots,
                              const Centreline& centreline, const Banks& banks,
                              const std::string& crs_wkt,

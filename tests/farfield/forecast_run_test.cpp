@@ -391,6 +391,17 @@ TEST_F(Forecast, AnEnsembleLeavesItsForecastAsItWasAndIsReproducible) {
         most = std::max(most, bin["probability"].get<double>());
     EXPECT_GE(km["probability"].get<double>(), most - 1e-12) << km;
     EXPECT_GT(km["probability"].get<double>(), 0) << km;
+    // shoreline.geojson draws the same kilometre with the same share.
+    int drawn = 0;
+    for (const auto& f : shore["features"]) {
+      const auto& p = f["properties"];
+      if (p["kind"] != "probability_km" || p["bank"] != km["bank"] ||
+          std::floor(p["km_from"].get<double>() + 1e-9) != km["km_from"].get<double>())
+        continue;
+      ++drawn;
+      EXPECT_EQ(p["oiling_probability"].get<double>(), km["probability"].get<double>()) << km;
+    }
+    EXPECT_EQ(drawn, 1) << km;
   }
   EXPECT_FALSE(e["bank_km_oiling_probability"].empty());
 
