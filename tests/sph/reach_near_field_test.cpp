@@ -1,8 +1,8 @@
 // A MTDF-SPH near field inside a reach run (terrain source "reach",
-// sph/near_field/reach_terrain.h): a trapezoidal flume written here as a GeoTIFF runs to its steady
-// state in the shallow-water solver, and a 2 m box of it becomes an SPH scene whose terrain, water
-// and inflow come from the run. The near field's water flows into the box at the reach's
-// depth-averaged velocity there.
+// sph/near_field/reach_terrain.h): a trapezoidal flume written as a GeoTIFF runs to its steady
+// state in the shallow-water solver (tests/sph/flume_reach.h), and a 2 m box of it becomes an SPH
+// scene whose terrain, water and inflow come from the run. The near field's water flows into the
+// box at the reach's depth-averaged velocity there.
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -22,21 +22,16 @@
 #include "sph/app/scene_runner.h"
 #include "sph/scene/scene_loader.h"
 #include "sph/simulation/simulation.h"
+#include "tests/sph/flume_reach.h"
 
 namespace fs = std::filesystem;
 
 namespace sph {
 namespace {
 
-constexpr double kX0 = 1771000, kY0 = 5472000;  // NZTM2000, the flume's south-west corner
-constexpr double kDischarge = 0.1;              // m^3/s
-
-// The flume: 16 m long, falling 1 in 1000 to the east; a channel 0.8 m wide at the bottom with
-// banks of slope 1 rising 0.4 m, its axis 1.2 m from the south edge, flat ground beyond.
-double flume_bed(double x, double y) {
-  const double d = std::abs(y - 1.2);
-  return -0.001 * x + std::clamp(d - 0.4, 0.0, 0.4);
-}
+using flume_reach::kDischarge;
+using flume_reach::kX0;
+using flume_reach::kY0;
 
 class ReachNearField : public ::testing::Test {
  protected:
@@ -44,62 +39,11 @@ class ReachNearField : public ::testing::Test {
     dir_ = fs::temp_directory_path() / ("spill_reach_near_field_" + std::to_string(getpid()));
     fs::remove_all(dir_);
     fs::create_directories(dir_);
-    reach::Raster r;
-    r.grid.nx = 160, r.grid.ny = 24, r.grid.dx = r.grid.dy = 0.1;
-    r.grid.x0 = kX0, r.grid.y0 = kY0;
-    for (int j = 0; j < r.grid.ny; ++j)
-      for (int i = 0; i < r.grid.nx; ++i)
-        r.values.push_back(flume_bed(r.grid.x(i) - kX0, r.grid.y(j) - kY0));
-    r.crs_wkt = reach::crs_wkt_of("EPSG:2193");
-    reach::write_geotiff((dir_ / "flume.tif").string(), r);
-    const nlohmann::json section = {{"from", kY0 + 0.4}, {"to", kY0 + 2.0}};
-    nlohmann::json inflow_section = section, outflow_section = section;
-    inflow_section.update({{"name", "upstream"}, {"side", "west"}});
-    outflow_section.update({{"name", "downstream"}, {"side", "east"}});
-    const nlohmann::json config = {
-        {"name", "flume"},
-        {"terrain", {{"file", "flume.tif"}, {"manning", 0.012}}},
-        {"inflows", {{{"section", inflow_section}, {"discharge", {{"value", kDischarge}}}}}},
-        {"outflows", {{{"section", outflow_section}, {"kind", "normal_depth"}, {"slope", 0.001}}}},
-        {"end_time", 1200},
-        {"output_every", 1200},
-        {"steady_tolerance", 1e-5},
-        {"steady_window", 60}};
-    std::ofstream(dir_ / "reach.json") << config.dump(2);
-    std::ostringstream log;
-    reach::ReachRunOptions o;
-    o.config_file = (dir_ / "reach.json").string();
-    o.out_dir = (dir_ / "flume_run").string();
-    o.log = &log;
-    summary_ = reach::run_reach(o);
+    summary_ = flume_reach::run(dir_);
   }
   static void TearDownTestSuite() { fs::remove_all(dir_); }
 
-  // The near field: a box 2 m long and 2 m wide around the flume's axis 7 m downstream, its
-  // upstream end closed by a wall, at 2 cm particles.
-  static nlohmann::json scene_json() {
-    return {{"name", "flume_near_field"},
-            {"solver", "mtdf"},
-            {"particle_radius", 0.02},
-            {"end_time", 3.0},
-            {"materials",
-             {{"water", {{"density", 1000}, {"viscosity", 0.001}}},
-              {"oil", {{"density", 940}, {"viscosity", 0.004}}}}},
-            {"output", {{"frame_dt", 0.05}}},
-            {"terrain",
-             {{"source", "reach"},
-              {"reach",
-               {{"run", "flume_run"},
-                {"centre", {kX0 + 8, kY0 + 1.2}},
-                {"length", 2},
-                {"width", 2},
-                {"cell_size", 0.02}}},
-              {"fill_water", true}}},
-            {"flow", {{"inflow_x", 0.025}, {"outflow_x", 1.8}, {"buffer", 0.15}}},
-            {"boxes",
-             {{{"min", {-0.2, -1.2, -0.5}}, {"max", {0, 1.2, 0.5}}, {"fluid_side", "outside"}}}},
-            {"domain", {{"min", {-0.3, -1.3, -0.6}}, {"max", {2.3, 1.3, 0.6}}}}};
-  }
+  static nlohmann::json scene_json() { return flume_reach::scene(); }
   static LoadedScene load(const nlohmann::json& scene) {
     std::ofstream(dir_ / "scene.json") << scene.dump(2);
     return load_scene((dir_ / "scene.json").string());
@@ -140,7 +84,7 @@ TEST_F(ReachNearField, TheNearFieldFlowsInAtTheReachsVelocity) {
     const double h = depth.values[g.at(column, j)];
     if (!(h > 0.01)) continue;
     area += h * g.dy;
-    level += h + flume_bed(g.x(column) - kX0, g.y(j) - kY0);
+    level += h + flume_reach::bed(g.x(column) - kX0, g.y(j) - kY0);
     ++wet;
   }
   level /= wet;
@@ -151,8 +95,8 @@ TEST_F(ReachNearField, TheNearFieldFlowsInAtTheReachsVelocity) {
   const Terrain& terrain = *scene.config.terrain_grid;
   // The box's +x runs east with the flume, its z = 0 is the reach's level at the inflow.
   EXPECT_NEAR(double(scene.config.terrain->reach->heading), 90, 1);
-  EXPECT_NEAR(double(terrain.height_at(1, 0)), flume_bed(8, 1.2) - level, 0.01);
-  EXPECT_NEAR(double(terrain.height_at(1, 0.6)), flume_bed(8, 1.8) - level, 0.01);
+  EXPECT_NEAR(double(terrain.height_at(1, 0)), flume_reach::bed(8, 1.2) - level, 0.01);
+  EXPECT_NEAR(double(terrain.height_at(1, 0.6)), flume_reach::bed(8, 1.8) - level, 0.01);
   // The box's sides are walls: above the water however wide the flume's water is there.
   for (Real y : {terrain.origin_y, terrain.max_y()}) {
     EXPECT_GT(double(terrain.height_at(1, y)), 0.05) << y;
