@@ -121,6 +121,27 @@ nlohmann::json box_json(const ReachWindowConfig& w) {
           {"heading_deg", w.heading}};
 }
 
+// A hand-over of the scene's oil, nothing collected yet.
+NearFieldHandover empty_handover(const SceneConfig& c) {
+  NearFieldHandover out;
+  out.oil_density = double(c.materials.oil.density);
+  out.particle_volume_m3 = double(particle_rest_volume(c));
+  return out;
+}
+
+// What forecast.json's hand-over says of the oil collected, whichever way the near field came.
+nlohmann::json oil_summary(const NearFieldHandover& out, const SceneConfig& c, double end_time) {
+  return {{"end_time_s", end_time},
+          {"parcels", out.parcels.size()},
+          {"left_box_m3", out.left_m3},
+          {"remaining_in_box_m3", out.remaining_m3},
+          {"handed_over_m3", out.left_m3 + out.remaining_m3},
+          {"leak_schedule_m3", scheduled_leak_volume(c)},
+          {"particle_volume_m3", out.particle_volume_m3},
+          {"near_field_oil_density_kg_m3", out.oil_density},
+          {"box", box_json(*c.terrain->reach)}};
+}
+
 }  // namespace
 
 NearFieldHandover run_near_field_handover(const std::string& scene_file,
@@ -132,9 +153,7 @@ NearFieldHandover run_near_field_handover(const std::string& scene_file,
   const SceneConfig& c = scene.config;
   const reach::NearFieldWindow box = handover_box(c, scene_file, far_field);
 
-  NearFieldHandover out;
-  out.oil_density = double(c.materials.oil.density);
-  out.particle_volume_m3 = double(particle_rest_volume(c));
+  NearFieldHandover out = empty_handover(c);
   Simulation sim(c);
   HandoverTracker tracker(box, particle_rest_volume(c), out);
   TrajectoryFrame frame;
@@ -159,17 +178,9 @@ NearFieldHandover run_near_field_handover(const std::string& scene_file,
   tracker.finish(frame.time, frame.position, frame.active, frame.oil_fraction);
   if (log) progress.finish(std::to_string(out.parcels.size()) + " parcels of oil");
 
-  out.summary = {{"scene", scene_file},
-                 {"end_time_s", sim.time()},
-                 {"steps", sim.steps()},
-                 {"parcels", out.parcels.size()},
-                 {"left_box_m3", out.left_m3},
-                 {"remaining_in_box_m3", out.remaining_m3},
-                 {"handed_over_m3", out.left_m3 + out.remaining_m3},
-                 {"leak_schedule_m3", scheduled_leak_volume(c)},
-                 {"particle_volume_m3", out.particle_volume_m3},
-                 {"near_field_oil_density_kg_m3", out.oil_density},
-                 {"box", box_json(*c.terrain->reach)}};
+  out.summary = oil_summary(out, c, sim.time());
+  out.summary["scene"] = scene_file;
+  out.summary["steps"] = sim.steps();
   return out;
 }
 
@@ -198,9 +209,7 @@ NearFieldHandover near_field_handover_from_run(const std::string& run_folder,
   const reach::NearFieldWindow box = handover_box(c, metadata_file + ":/scene", far_field);
 
   TrajectoryReader trajectory((folder / "trajectory.h5").string());
-  NearFieldHandover out;
-  out.oil_density = double(c.materials.oil.density);
-  out.particle_volume_m3 = double(particle_rest_volume(c));
+  NearFieldHandover out = empty_handover(c);
   HandoverTracker tracker(box, particle_rest_volume(c), out);
   TrajectoryFrame frame;
   trajectory.read(0, frame);
@@ -217,18 +226,10 @@ NearFieldHandover near_field_handover_from_run(const std::string& run_folder,
   tracker.finish(frame.time, frame.position, frame.active, frame.oil_fraction);
   if (log) progress.finish(std::to_string(out.parcels.size()) + " parcels of oil");
 
-  out.summary = {{"run", run_folder},
-                 {"scene", metadata.value("scene_file", "")},
-                 {"end_time_s", frame.time},
-                 {"frames", trajectory.frames()},
-                 {"parcels", out.parcels.size()},
-                 {"left_box_m3", out.left_m3},
-                 {"remaining_in_box_m3", out.remaining_m3},
-                 {"handed_over_m3", out.left_m3 + out.remaining_m3},
-                 {"leak_schedule_m3", scheduled_leak_volume(c)},
-                 {"particle_volume_m3", out.particle_volume_m3},
-                 {"near_field_oil_density_kg_m3", out.oil_density},
-                 {"box", box_json(*c.terrain->reach)}};
+  out.summary = oil_summary(out, c, frame.time);
+  out.summary["run"] = run_folder;
+  out.summary["scene"] = metadata.value("scene_file", "");
+  out.summary["frames"] = trajectory.frames();
   if (metadata.contains("predicted_by")) out.summary["predicted_by"] = metadata["predicted_by"];
   if (fs::exists(folder / "stats.json")) {
     const nlohmann::json stats =

@@ -33,12 +33,7 @@ TEST(LearnedNearField, APredictFolderHandsItsOilToTheFarField) {
   scene["terrain"]["reach"]["cell_size"] = 0.025;
   scene["end_time"] = 1.5;
   const double rate = 0.002, duration = 0.5;
-  scene["leaks"] = {{{"x", 0.8},
-                     {"position", "centre"},
-                     {"rate", rate},
-                     {"speed", 0.3},
-                     {"start", 0.2},
-                     {"duration", duration}}};
+  scene["leaks"] = flume_reach::leaks(rate, duration);
   std::ofstream(dir / "leak_scene.json") << scene.dump(2);
   infer::PredictOptions o;
   o.checkpoint = kDpi;
@@ -63,21 +58,8 @@ TEST(LearnedNearField, APredictFolderHandsItsOilToTheFarField) {
   }
 
   // The far field releases exactly that oil.
-  const nlohmann::json forecast = {
-      {"flow", {{"reach_run", "flume_run"}}},
-      {"centreline",
-       {{flume_reach::kX0 + 0.5, flume_reach::kY0 + 1.2},
-        {flume_reach::kX0 + 15.5, flume_reach::kY0 + 1.2}}},
-      {"oil", "medium_crude"},
-      {"near_field", {{"run", "learned"}, {"elements_per_parcel", 2}}},
-      {"environment",
-       {{"water_temperature", {{"value", 15}}},
-        {"wind_speed", {{"value", 0}}},
-        {"wind_from", {{"value", 0}}}}},
-      {"banks", {{"classes", {{{"name", "concrete"}}}}, {"default_class", "concrete"}}},
-      {"end_time", 60},
-      {"time_step", 1},
-      {"output_every", 30}};
+  const nlohmann::json forecast =
+      flume_reach::forecast({{"run", "learned"}, {"elements_per_parcel", 2}});
   std::ofstream(dir / "forecast.json") << forecast.dump(2);
   farfield::ForecastRunOptions run;
   run.config_file = (dir / "forecast.json").string();

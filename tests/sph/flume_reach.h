@@ -84,4 +84,32 @@ inline nlohmann::json scene() {
       {"domain", {{"min", {-0.3, -1.3, -0.6}}, {"max", {2.3, 1.3, 0.6}}}}};
 }
 
+// A leak in the box's centre 0.8 m from its inflow, of `rate` m^3/s from 0.2 s for `duration` s:
+// the scene's "leaks".
+inline nlohmann::json leaks(double rate, double duration) {
+  return {{{"x", 0.8},
+           {"position", "centre"},
+           {"rate", rate},
+           {"speed", 0.3},
+           {"start", 0.2},
+           {"duration", duration}}};
+}
+
+// A far-field forecast of a minute on the flume's flow (dir/flume_run, relative to a config in
+// dir), calm, concrete banks, with `near_field` as its near field.
+inline nlohmann::json forecast(const nlohmann::json& near_field) {
+  return {{"flow", {{"reach_run", "flume_run"}}},
+          {"centreline", {{kX0 + 0.5, kY0 + 1.2}, {kX0 + 15.5, kY0 + 1.2}}},
+          {"oil", "medium_crude"},
+          {"near_field", near_field},
+          {"environment",
+           {{"water_temperature", {{"value", 15}}},
+            {"wind_speed", {{"value", 0}}},
+            {"wind_from", {{"value", 0}}}}},
+          {"banks", {{"classes", {{{"name", "concrete"}}}}, {"default_class", "concrete"}}},
+          {"end_time", 60},
+          {"time_step", 1},
+          {"output_every", 30}};
+}
+
 }  // namespace flume_reach

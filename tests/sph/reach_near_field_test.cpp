@@ -225,12 +225,7 @@ TEST_F(ReachNearField, TheOilHandedOverIsTheOilThatLeftOrRemainsInTheBox) {
   nlohmann::json scene = scene_json();
   scene["end_time"] = 2.0;  // the leak's first oil leaves the box from 1.7 s, its last by 2.4 s
   const double rate = 0.002, duration = 0.5;
-  scene["leaks"] = {{{"x", 0.8},
-                     {"position", "centre"},
-                     {"rate", rate},
-                     {"speed", 0.3},
-                     {"start", 0.2},
-                     {"duration", duration}}};
+  scene["leaks"] = flume_reach::leaks(rate, duration);
   std::ofstream(dir_ / "leak_scene.json") << scene.dump(2);
   // A far field on another reach run (here a copy of the flume's) is refused before any SPH.
   fs::copy(dir_ / "flume_run", dir_ / "other_run", fs::copy_options::recursive);
@@ -266,19 +261,8 @@ TEST_F(ReachNearField, TheOilHandedOverIsTheOilThatLeftOrRemainsInTheBox) {
   EXPECT_NEAR(parcels, near.left_m3 + near.remaining_m3, 1e-12);
 
   // The far field takes them over on the flume's flow: every cubic metre, at its density.
-  const nlohmann::json forecast = {
-      {"flow", {{"reach_run", "flume_run"}}},
-      {"centreline", {{kX0 + 0.5, kY0 + 1.2}, {kX0 + 15.5, kY0 + 1.2}}},
-      {"oil", "medium_crude"},
-      {"near_field", {{"scene", "leak_scene.json"}, {"elements_per_parcel", 3}}},
-      {"environment",
-       {{"water_temperature", {{"value", 15}}},
-        {"wind_speed", {{"value", 0}}},
-        {"wind_from", {{"value", 0}}}}},
-      {"banks", {{"classes", {{{"name", "concrete"}}}}, {"default_class", "concrete"}}},
-      {"end_time", 60},
-      {"time_step", 1},
-      {"output_every", 30}};
+  const nlohmann::json forecast =
+      flume_reach::forecast({{"scene", "leak_scene.json"}, {"elements_per_parcel", 3}});
   std::ofstream(dir_ / "forecast.json") << forecast.dump(2);
   farfield::ForecastRunOptions o;
   o.config_file = (dir_ / "forecast.json").string();
@@ -300,12 +284,7 @@ TEST_F(ReachNearField, TheOilHandedOverIsTheOilThatLeftOrRemainsInTheBox) {
 TEST_F(ReachNearField, AFinishedRunFolderHandsOverTheSameOilAsRunningItsScene) {
   nlohmann::json scene = scene_json();
   scene["end_time"] = 2.0;
-  scene["leaks"] = {{{"x", 0.8},
-                     {"position", "centre"},
-                     {"rate", 0.002},
-                     {"speed", 0.3},
-                     {"start", 0.2},
-                     {"duration", 0.5}}};
+  scene["leaks"] = flume_reach::leaks(0.002, 0.5);
   std::ofstream(dir_ / "leak_scene.json") << scene.dump(2);
   const FarFieldReachRun far_field{(dir_ / "flume_run").string(), "forecast.json",
                                    "/near_field/run"};
