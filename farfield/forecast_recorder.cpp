@@ -134,7 +134,7 @@ nlohmann::json definitions_json() {
            "stranded oil; per_km: stranded emulsion volume per whole km"},
           {"budget_kg",
            "oil mass (water not counted): released = floating + stranded + "
-           "evaporated + dispersed + left_reach; closure_error is relative"},
+           "evaporated + dispersed + left_reach + sunk; closure_error is relative"},
           {"watch_points",
            "arrival_s: the first step's end at which oil (floating or stranded) "
            "lay within the radius; null: not reached"}};

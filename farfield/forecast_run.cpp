@@ -12,6 +12,7 @@
 #include "common/progress.h"
 #include "farfield/forecast_ensemble.h"
 #include "farfield/forecast_recorder.h"
+#include "farfield/outputs/forecast_report.h"
 
 namespace farfield {
 
@@ -120,6 +121,7 @@ nlohmann::json run_forecast(const ForecastRunOptions& o) {
     ensemble->write_files(folder.staging(), times, clocks, o.pictures);
   }
   const nlohmann::json summary = recorder.finish(model, points, facts);
+  write_forecast_report(folder.staging(), summary);
   folder.commit();
   return summary;
 }

@@ -16,6 +16,7 @@
 #include <memory>
 #include <sstream>
 
+#include "common/checked_file.h"
 #include "common/config_error.h"
 #include "common/exit_codes.h"
 #include "common/json_file.h"
@@ -124,13 +125,24 @@ class Forecast : public ::testing::Test {
 };
 fs::path Forecast::dir_;
 
+// The rows of report.html's table `id` (its header row not counted; -1 when there is no such
+// table).
+int table_rows(const std::string& html, const std::string& id) {
+  const size_t start = html.find("<table id=\"" + id + "\">");
+  if (start == std::string::npos) return -1;
+  const size_t end = html.find("</table>", start);
+  int rows = -1;
+  for (size_t at = html.find("<tr>", start); at < end; at = html.find("<tr>", at + 1)) ++rows;
+  return rows;
+}
+
 }  // namespace
 
 TEST_F(Forecast, WritesEveryOutputThatItsToolsRead) {
   const nlohmann::json summary = run(config(), "out");
   const fs::path out = dir_ / "out";
   for (const char* f : {"forecast.json", "budget.csv", "budget.svg", "slick.geojson",
-                        "shoreline.geojson", "elements.nc", "png/map_00000.png"})
+                        "shoreline.geojson", "elements.nc", "png/map_00000.png", "report.html"})
     EXPECT_TRUE(fs::exists(out / f)) << f;
   // Released as configured: 0.01 m^3/s for 300 s.
   EXPECT_NEAR(summary["released_m3"].get<double>(), 3.0, 1e-9);
@@ -145,6 +157,17 @@ TEST_F(Forecast, WritesEveryOutputThatItsToolsRead) {
   // The intake 600 m downstream of the release is reached (the surface moves at about 0.4 m/s).
   EXPECT_TRUE(summary["watch_points"][0]["arrival_s"].is_number());
   EXPECT_NEAR(summary["watch_points"][0]["km"].get<double>(), 0.695, 1e-6);
+  // report.html: the budget at every output time, the intake's first oil as forecast.json has
+  // it (in hours and minutes after the start), the maps behind a slider.
+  const std::string report = common::read_whole_file(out / "report.html");
+  EXPECT_EQ(table_rows(report, "budget"), int(summary["outputs"].size()));
+  EXPECT_EQ(table_rows(report, "watch-points"), 1);
+  const long minutes = std::lround(summary["watch_points"][0]["arrival_s"].get<double>() / 60);
+  char arrival[32];
+  std::snprintf(arrival, sizeof arrival, "%ld h %02ld min", minutes / 60, minutes % 60);
+  EXPECT_NE(report.find(arrival), std::string::npos) << arrival;
+  EXPECT_NE(report.find("map-slider"), std::string::npos);
+  EXPECT_EQ(table_rows(report, "arrival-quantiles"), -1) << "no ensemble, no ensemble table";
 
   int status = -1;
   const std::string info =
@@ -404,6 +427,13 @@ TEST_F(Forecast, AnEnsembleLeavesItsForecastAsItWasAndIsReproducible) {
     EXPECT_EQ(drawn, 1) << km;
   }
   EXPECT_FALSE(e["bank_km_oiling_probability"].empty());
+  // report.html's ensemble tables: a row per watch point, per oiled bank kilometre, per budget
+  // part; the probability picture.
+  const std::string report = common::read_whole_file(out / "report.html");
+  EXPECT_EQ(table_rows(report, "arrival-quantiles"), int(e["watch_points"].size()));
+  EXPECT_EQ(table_rows(report, "bank-km-probability"), int(e["bank_km_oiling_probability"].size()));
+  EXPECT_EQ(table_rows(report, "budget-quantiles"), 6);
+  EXPECT_NE(report.find("members whose oil had been in each cell"), std::string::npos);
 
   // Bad ensemble input is refused naming its key.
   std::string m = refusal({"/ensemble={\"members\": 1}"});
