@@ -242,7 +242,7 @@ ShoreProbability ForecastEnsemble::shore_probability(double t_s, const std::stri
           clock,
           tally_.bank_probability(),
           tally_.bank_offset(),
-          bank_kilometres(setup_.model.banks, setup_.model.centreline),
+          tally_.bank_group(),
           tally_.group_probability()};
 }
 

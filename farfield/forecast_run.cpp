@@ -2,11 +2,11 @@
 
 #include <chrono>
 #include <filesystem>
-#include <fstream>
 #include <iostream>
 #include <memory>
 #include <sstream>
 
+#include "common/checked_file.h"
 #include "common/exit_codes.h"
 #include "common/output_folder.h"
 #include "common/progress.h"
@@ -21,7 +21,7 @@ namespace fs = std::filesystem;
 namespace {
 
 // A shard of the ensemble's members: their tally in out_dir/ensemble_shard_I_of_N.json, written
-// to a temporary name and renamed, so that an assembling run never reads half a file.
+// whole or not at all, so that an assembling run never reads half a file.
 nlohmann::json run_shard(const ForecastRunOptions& o, const ForecastConfig& config,
                          const ForecastSetup& setup) {
   if (!config.ensemble)
@@ -39,11 +39,9 @@ nlohmann::json run_shard(const ForecastRunOptions& o, const ForecastConfig& conf
   const fs::path folder = o.out_dir;
   fs::create_directories(folder);
   const fs::path file = folder / shard_file_name(*o.shard);
-  const fs::path partial = folder / (shard_file_name(*o.shard) + ".partial");
   nlohmann::json content = shard;
   content["tally"] = ensemble.tally().to_json();
-  std::ofstream(partial) << content.dump() << "\n";
-  fs::rename(partial, file);
+  common::write_file_atomically(file, content.dump() + "\n");
   shard["file"] = file.string();
   return shard;
 }

@@ -44,6 +44,8 @@ class EnsembleTally {
   std::vector<double> bank_probability() const;
   // The share of members that stranded oil anywhere in each bank group, by the end.
   std::vector<double> group_probability() const;
+  // Each bank bin's group, as given.
+  const std::vector<int>& bank_group() const { return bank_group_; }
   // The mean offset from the centreline (m) of the oil stranded on each bin at the members'
   // output times (0 where none was).
   std::vector<double> bank_offset() const;

@@ -94,6 +94,11 @@ bool slide_along_bank(const SurfaceFlow& flow, double grid_cell, double min_dept
   return true;
 }
 
+double shear_velocity(const FlowSample& s) {
+  if (s.where != FlowWhere::water || s.depth <= 0) return 0;
+  return std::sqrt(s.u * s.u + s.v * s.v) * root_half_drag(s);
+}
+
 LocalDrift local_drift(const FlowSample& s, const DriftSettings& settings) {
   LocalDrift d;
   if (s.where != FlowWhere::water || s.depth <= 0) return d;

@@ -67,6 +67,10 @@ struct LocalDrift {
 };
 LocalDrift local_drift(const FlowSample& s, const DriftSettings& settings);
 
+// The bed's shear velocity u* = |u| sqrt(g n^2 / h^(1/3)) (m/s) where the flow is water; 0
+// elsewhere.
+double shear_velocity(const FlowSample& s);
+
 struct DriftResult {
   double x = 0, y = 0;                 // where the element ends
   double wet_x = 0, wet_y = 0;         // its last point on water at least `min_depth` deep

@@ -137,9 +137,8 @@ void FarFieldModel::step(double dt) {
     double river_rate = 0;
     if (env.river_dispersion && setup_.weathering.dispersion) {
       const FlowSample s = flow.sample(el.x[e], el.y[e], t0);
-      if (s.where == FlowWhere::water)
-        river_rate = river_dispersion_rate(
-            river_surface_dissipation(s.depth, std::hypot(s.u, s.v), s.manning, env.water_density));
+      river_rate = river_dispersion_rate(
+          river_surface_dissipation(s.depth, shear_velocity(s), env.water_density));
     }
     weather_element(setup_.oil, el, e, weathering, setup_.weathering, slick_diameter, river_rate,
                     live);

@@ -160,9 +160,8 @@ void emulsify(const OilRecord& oil, Elements& el, size_t e, const StepWeathering
   el.water_fraction[e] = std::min(y_max, s * kLargestDroplet / (6 + s * kLargestDroplet));
 }
 
-double river_surface_dissipation(double depth, double speed, double manning, double water_density) {
-  if (!(depth > 0) || !(speed > 0)) return 0;
-  const double shear = speed * std::sqrt(kGravity * manning * manning / std::cbrt(depth));
+double river_surface_dissipation(double depth, double shear, double water_density) {
+  if (!(depth > 0) || !(shear > 0)) return 0;
   const double xi = 0.9;  // the top of the range Nezu & Nakagawa fitted
   const double profile = 9.8 / std::sqrt(xi) * std::exp(-3 * xi);
   return water_density * profile * shear * shear * shear / depth;

@@ -86,8 +86,8 @@ void evaporate_fingas(const OilRecord& oil, Elements& el, size_t e, const StepWe
                       double dt);
 void emulsify(const OilRecord& oil, Elements& el, size_t e, const StepWeathering& w, double dt);
 // The turbulence's dissipation rate per unit volume (J m^-3 s^-1) at a river's surface, from its
-// depth (m), depth-averaged speed (m/s) and Manning's n, and the water's density.
-double river_surface_dissipation(double depth, double speed, double manning, double water_density);
+// depth (m), the bed's shear velocity (m/s; drift.h's shear_velocity) and the water's density.
+double river_surface_dissipation(double depth, double shear_velocity, double water_density);
 // D&H's eps^0.57 V for that dissipation: what disperse() adds to the waves' dispersion_rate.
 double river_dispersion_rate(double dissipation);
 

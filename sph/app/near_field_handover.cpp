@@ -219,9 +219,10 @@ NearFieldHandover near_field_handover_from_run(const std::string& run_folder,
   for (int k = 1; k < trajectory.frames(); ++k) {
     trajectory.read(k, frame);
     tracker.frame(frame.time, frame.position, frame.active, frame.oil_fraction);
+    if (!log) continue;
     char when[40];
     std::snprintf(when, sizeof when, "t = %.4g s", frame.time);
-    if (log) progress.update(k, when);
+    progress.update(k, when);
   }
   tracker.finish(frame.time, frame.position, frame.active, frame.oil_fraction);
   if (log) progress.finish(std::to_string(out.parcels.size()) + " parcels of oil");
