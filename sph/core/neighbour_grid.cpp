@@ -65,6 +65,8 @@ void NeighbourGrid::find(const Vec3* queries, Index count, bool same_set, Neighb
   // Each chunk collects its neighbours in its own buffer; the buffers are concatenated in order,
   // so the result does not depend on the thread count.
   constexpr Index kChunk = 128;
+  const SortedPoints points{sorted_x_.data(), sorted_y_.data(), sorted_z_.data(),
+                            sorted_index_.data()};
   const Index chunks = (count + kChunk - 1) / kChunk;
   if (chunk_buffers_.size() < chunks) chunk_buffers_.resize(chunks);
   chunk_used_.assign(chunks, 0);
@@ -90,7 +92,7 @@ void NeighbourGrid::find(const Vec3* queries, Index count, bool same_set, Neighb
         const Real fy = rel[1] - Real(cy), fz = rel[2] - Real(cz);
         const Real gap_y[3] = {fy * cell_, 0, (Real(1) - fy) * cell_};
         const Real gap_z[3] = {fz * cell_, 0, (Real(1) - fz) * cell_};
-        const Real qx = x[0], qy = x[1], qz = x[2];
+        const Real query[3] = {x[0], x[1], x[2]};
         const Index self = same_set ? i : ~Index(0);
         for (std::int64_t z = std::max<std::int64_t>(cz - 1, 0);
              z <= std::min<std::int64_t>(cz + 1, nz_ - 1); ++z) {
@@ -102,17 +104,9 @@ void NeighbourGrid::find(const Vec3* queries, Index count, bool same_set, Neighb
             const std::int64_t row = (z * ny_ + y) * nx_;
             const Index cbegin = cell_start_[size_t(row + x0)];
             const Index cend = cell_start_[size_t(row + x1 + 1)];
-            if (buffer.size() < used + (cend - cbegin)) buffer.resize(2 * (used + (cend - cbegin)));
-            Index* out_ptr = buffer.data() + used;
-            size_t n = 0;
-            // Branch-free compaction over coordinate arrays: the compiler keeps this loop free of
-            // unpredictable jumps (about one candidate in six is a neighbour).
-            for (Index k = cbegin; k < cend; ++k) {
-              const Real dx = sorted_x_[k] - qx, dy = sorted_y_[k] - qy, dz = sorted_z_[k] - qz;
-              const Index j = sorted_index_[k];
-              out_ptr[n] = j;
-              n += size_t((dx * dx + dy * dy + dz * dz < r2) & (j != self));
-            }
+            const size_t room = used + (cend - cbegin) + kRowScanSlack;
+            if (buffer.size() < room) buffer.resize(2 * room);
+            const size_t n = scan_(points, cbegin, cend, query, r2, self, buffer.data() + used);
             used += n;
           }
         }

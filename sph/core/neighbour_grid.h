@@ -9,6 +9,7 @@
 #include <stdexcept>
 #include <vector>
 
+#include "sph/core/neighbour_row_scan.h"
 #include "sph/core/types.h"
 
 namespace sph {
@@ -60,6 +61,9 @@ class NeighbourGrid {
   // neighbour. Indices refer to the order the points were given to build().
   void find(const Vec3* queries, Index count, bool same_set, NeighbourLists& out);
 
+  // Uses this version of the innermost scan instead of the fastest the CPU offers (tests).
+  void use_row_scan(RowScan scan) { scan_ = scan; }
+
   // Built point indices sorted by cell (x fastest): a permutation that gives memory locality.
   const std::vector<Index>& cell_order() const { return sorted_index_; }
 
@@ -83,6 +87,7 @@ class NeighbourGrid {
   std::vector<Index> cell_fill_;  // scratch: next free slot of each cell in the counting sort
   std::vector<std::vector<Index>> chunk_buffers_;  // reused across calls
   std::vector<size_t> chunk_used_;
+  RowScan scan_ = available_row_scans().back().scan;
 };
 
 template <class F>

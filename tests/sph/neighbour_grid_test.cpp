@@ -1,10 +1,12 @@
 // Neighbour search against brute force, including points exactly on cell borders.
 
 #include "sph/core/neighbour_grid.h"
+#include "sph/core/neighbour_row_scan.h"
 
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <random>
 
 namespace sph {
@@ -112,6 +114,76 @@ TEST(NeighbourGrid, PointOutsideOrNaNIsReportedWithItsIndex) {
   }
   points[1] = Vec3(std::nanf(""), 0.5f, 0.5f);
   EXPECT_THROW(grid.build(points), PointOutsideDomain);
+}
+
+// Every SIMD version of the innermost scan returns exactly the scalar one's list, in the same
+// order, for ranges of every length (whole vectors and every tail) and for points placed on the
+// radius to within a rounding step, where a differently rounded distance would flip the answer.
+TEST(NeighbourRowScan, EveryVersionReturnsTheScalarList) {
+  const std::vector<RowScanVersion> versions = available_row_scans();
+  ASSERT_EQ(versions.front().name, "scalar");
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<Real> unit(-1, 1);
+  const Real radius = Real(0.05), r2 = radius * radius;
+  const int count = 4000;
+  std::vector<Real> x(count), y(count), z(count);
+  std::vector<Index> index(count);
+  const Real q[3] = {Real(0.3), Real(-0.2), Real(0.1)};
+  for (int k = 0; k < count; ++k) {
+    Vec3 d(unit(rng), unit(rng), unit(rng));
+    d.normalize();
+    // A third just inside, on or just outside the radius, the rest anywhere within 1.5 radii.
+    const Real scale = k % 3 == 0 ? radius * (Real(1) + Real(2e-7) * Real(k % 5 - 2))
+                                  : Real(1.5) * radius * std::abs(unit(rng));
+    x[k] = q[0] + scale * d[0];
+    y[k] = q[1] + scale * d[1];
+    z[k] = q[2] + scale * d[2];
+    index[k] = Index(count - k);  // not the slot: the scans must return the caller's index
+  }
+  const SortedPoints points{x.data(), y.data(), z.data(), index.data()};
+  std::vector<Index> expected(count + kRowScanSlack), got(count + kRowScanSlack);
+  size_t borderline = 0;
+  for (int k = 0; k < count; ++k) {
+    const Real dx = x[k] - q[0], dy = y[k] - q[1], dz = z[k] - q[2];
+    borderline += std::abs(dx * dx + dy * dy + dz * dz - r2) < Real(1e-6) * r2;
+  }
+  EXPECT_GT(borderline, size_t(count / 10));  // the test really probes the radius
+  for (const RowScanVersion& version : versions) {
+    SCOPED_TRACE(version.name);
+    for (Index begin = 0; begin < 40; begin += 3)
+      for (Index length = 0; length <= 70; ++length) {
+        for (const Index self : {~Index(0), index[begin + length / 2]}) {
+          const size_t want = versions.front().scan(points, begin, begin + length, q, r2, self,
+                                                    expected.data());
+          const size_t have =
+              version.scan(points, begin, begin + length, q, r2, self, got.data());
+          ASSERT_EQ(have, want) << "range " << begin << " + " << length;
+          for (size_t t = 0; t < want; ++t) ASSERT_EQ(got[t], expected[t]) << "entry " << t;
+        }
+      }
+    // One long range, as a dense cell row gives.
+    const size_t want =
+        versions.front().scan(points, 0, Index(count), q, r2, ~Index(0), expected.data());
+    ASSERT_EQ(version.scan(points, 0, Index(count), q, r2, ~Index(0), got.data()), want);
+    for (size_t t = 0; t < want; ++t) ASSERT_EQ(got[t], expected[t]);
+  }
+}
+
+// The grid's search equals brute force with whichever scan it uses.
+TEST(NeighbourRowScan, TheGridEqualsBruteForceWithEveryVersion) {
+  const Real radius = Real(0.1);
+  const Aabb box{Vec3(-0.3f, 0, 0.1f), Vec3(0.3f, 0.5f, 0.5f)};
+  const auto points = test_points(radius, box, 3000, 7);
+  const auto expected = brute_force(points, points, radius, true);
+  for (const RowScanVersion& version : available_row_scans()) {
+    SCOPED_TRACE(version.name);
+    NeighbourGrid grid(box, radius);
+    grid.use_row_scan(version.scan);
+    grid.build(points);
+    NeighbourLists lists;
+    grid.find(points.data(), Index(points.size()), true, lists);
+    expect_equal_to_brute_force(lists, expected);
+  }
 }
 
 }  // namespace
