@@ -18,7 +18,10 @@ RiverFlow::RiverFlow(const FlowConfig& config, const Terrain& terrain, Real wate
       water_(water),
       cooldown_(2 * frame_dt),
       layer_(inflow_layer(config, terrain, water_level, spacing)),
-      floor_z_(terrain.min_height() - 2 * spacing) {
+      floor_z_(terrain.min_height() - 2 * spacing),
+      ground_min_x_(terrain.origin_x - Real(0.5) * terrain.cell_size),
+      ground_min_y_(terrain.origin_y - Real(0.5) * terrain.cell_size),
+      ground_max_y_(terrain.max_y() + Real(0.5) * terrain.cell_size) {
   interval_ = double(spacing) / double(config.speed);
   const long reserve_layers = std::max(2L, std::lround(double(config.reserve_s) / interval_));
   pool_.resize(size_t(reserve_layers) * layer_.size());
@@ -182,11 +185,14 @@ void RiverFlow::hold_buffers_over_frame(FluidParticles& fluid, const std::vector
 void RiverFlow::retire_leaving(FluidParticles& fluid, double t) {
   retiring_.clear();
   for (Index i = 0; i < fluid.active_count(); ++i) {
-    // Past the outflow, or fallen below the lowest ground: water that splashed over a bank and
-    // off the edge of the terrain has left the reach too.
-    const bool fell = fluid.position[i].z() < floor_z_;
+    // Past the outflow, or fallen below the lowest ground or thrown beyond its sides: water
+    // that splashed over a bank and off the edge of the terrain has left the reach too (the
+    // domain ends a little beyond the ground, and a particle there would end the run).
+    const Vec3& p = fluid.position[i];
+    const bool fell = p.z() < floor_z_ || p.y() < ground_min_y_ || p.y() > ground_max_y_ ||
+                      p.x() < ground_min_x_;
     fallen_ += fell;
-    if (fluid.position[i].x() > config_.outflow_x || fell) retiring_.push_back(i);
+    if (p.x() > config_.outflow_x || fell) retiring_.push_back(i);
   }
   // From the highest slot down: deactivate() moves the last active particle into the freed slot,
   // and that one has been looked at already.

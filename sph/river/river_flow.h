@@ -101,6 +101,9 @@ class RiverFlow {
   long skipped_layers_ = 0;
   double oil_left_volume_ = 0;
   Real floor_z_;  // below this a particle has left the reach over an edge of the terrain
+  // Beyond the terrain's sides (across the flow, and upstream of its start) there is no ground:
+  // a particle there has been thrown over the edge and has left the reach too.
+  Real ground_min_x_, ground_min_y_, ground_max_y_;
   std::deque<PoolEntry> pool_;
   std::vector<Index> retiring_;
 };

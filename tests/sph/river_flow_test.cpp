@@ -268,5 +268,36 @@ TEST(RiverFlow, AnOutsideFrameHoldsTheBuffersForTheTimeSpentInThem) {
   EXPECT_EQ(fluid.velocity[3], Vec3(1.5f, 0, 0));
 }
 
+// Water thrown over a bank beyond the terrain's side, or upstream past its start, has left the
+// reach as water that fell below the lowest ground has: it retires, counts as fallen, and
+// comes back to the inflow as water; a particle still over the ground stays.
+TEST(RiverFlow, WaterThrownBeyondTheTerrainsEdgeRetiresAsFallen) {
+  const Terrain t = generate_river(straight_river());
+  RiverFlow flow(flow_config(), t, 0, kSpacing, Real(1.25e-4), water(), kFrameDt);
+  FluidParticles fluid;
+  flow.allocate(fluid);
+  flow.emit(fluid, 3.5 * double(kSpacing) / 1.5);
+  const Index active = fluid.active_count();
+  ASSERT_GE(active, 4u);
+  const Real edge = Real(0.5) * t.cell_size;
+  fluid.position[0] = Vec3(Real(0.5), t.max_y() + edge + Real(0.01), Real(0.1));
+  fluid.position[1] = Vec3(Real(0.5), t.origin_y - edge - Real(0.01), Real(0.1));
+  fluid.position[2] = Vec3(t.origin_x - edge - Real(0.01), 0, Real(0.1));
+  fluid.position[3] = Vec3(Real(0.5), t.max_y() + edge - Real(0.01), Real(0.1));  // over ground
+  const Index kept = fluid.id[3];
+  const size_t pooled = flow.state().at("pool_ids").size();
+  flow.after_step(fluid, 0.1, 0);
+  EXPECT_EQ(flow.retired(), 3);
+  EXPECT_EQ(flow.fallen(), 3);
+  EXPECT_EQ(fluid.active_count(), active - 3);
+  bool still_there = false;
+  for (Index i = 0; i < fluid.active_count(); ++i) still_there |= fluid.id[i] == kept;
+  EXPECT_TRUE(still_there);
+  EXPECT_EQ(flow.state().at("pool_ids").size(), pooled + 3);  // all three were water
+  flow.after_step(fluid, 0.1, 0);
+  EXPECT_EQ(flow.state().at("pool_ids").size(), pooled + 3);  // nothing more retires
+  EXPECT_EQ(flow.fallen(), 3);
+}
+
 }  // namespace
 }  // namespace sph
