@@ -189,8 +189,8 @@ void RiverFlow::retire_leaving(FluidParticles& fluid, double t) {
     // that splashed over a bank and off the edge of the terrain has left the reach too (the
     // domain ends a little beyond the ground, and a particle there would end the run).
     const Vec3& p = fluid.position[i];
-    const bool fell = p.z() < floor_z_ || p.y() < ground_min_y_ || p.y() > ground_max_y_ ||
-                      p.x() < ground_min_x_;
+    const bool fell =
+        p.z() < floor_z_ || p.y() < ground_min_y_ || p.y() > ground_max_y_ || p.x() < ground_min_x_;
     fallen_ += fell;
     if (p.x() > config_.outflow_x || fell) retiring_.push_back(i);
   }

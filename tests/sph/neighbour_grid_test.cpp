@@ -153,10 +153,9 @@ TEST(NeighbourRowScan, EveryVersionReturnsTheScalarList) {
     for (Index begin = 0; begin < 40; begin += 3)
       for (Index length = 0; length <= 70; ++length) {
         for (const Index self : {~Index(0), index[begin + length / 2]}) {
-          const size_t want = versions.front().scan(points, begin, begin + length, q, r2, self,
-                                                    expected.data());
-          const size_t have =
-              version.scan(points, begin, begin + length, q, r2, self, got.data());
+          const size_t want =
+              versions.front().scan(points, begin, begin + length, q, r2, self, expected.data());
+          const size_t have = version.scan(points, begin, begin + length, q, r2, self, got.data());
           ASSERT_EQ(have, want) << "range " << begin << " + " << length;
           for (size_t t = 0; t < want; ++t) ASSERT_EQ(got[t], expected[t]) << "entry " << t;
         }
